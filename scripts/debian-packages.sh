@@ -1,0 +1,15 @@
+# Debian bookworm packages needed to build, run and test everything.
+# Sourced by scripts/setup.sh; one list so the README and CI cannot drift.
+HAPI_DEBIAN_PACKAGES=(
+  build-essential cmake git
+  catkin catkin-lint ros-core-dev
+  libnodeletlib-dev libnodeletlib-tools python3-nodelet
+  libtf2-ros-dev libtf2-geometry-msgs-dev python3-tf2-ros
+  libimage-transport-dev image-transport-tools libcv-bridge-dev libimage-geometry-dev
+  libmessage-filters-dev librosbag-dev python3-rosbag
+  librostest-dev python3-rostest
+  libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libdiagnostic-msgs-dev
+  libstd-srvs-dev python3-std-srvs libdiagnostic-updater-dev python3-diagnostic-updater
+  libopencv-dev libeigen3-dev libgtest-dev googletest
+  xplanet-images
+)
