@@ -2,7 +2,7 @@
 # Sourced by scripts/setup.sh; one list so the README and CI cannot drift.
 HAPI_DEBIAN_PACKAGES=(
   build-essential cmake git
-  catkin catkin-lint ros-core-dev
+  catkin catkin-lint ros-core-dev rosbash python3-roslaunch
   libnodeletlib-dev libnodeletlib-tools python3-nodelet
   libtf2-ros-dev libtf2-geometry-msgs-dev python3-tf2-ros
   libimage-transport-dev image-transport-tools libcv-bridge-dev libimage-geometry-dev
