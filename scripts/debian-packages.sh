@@ -11,5 +11,5 @@ HAPI_DEBIAN_PACKAGES=(
   libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libdiagnostic-msgs-dev
   libstd-srvs-dev python3-std-srvs libdiagnostic-updater-dev python3-diagnostic-updater
   libopencv-dev libeigen3-dev libgtest-dev googletest
-  xplanet-images
+  xplanet-images python3-numpy python3-yaml
 )
