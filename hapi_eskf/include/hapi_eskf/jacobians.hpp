@@ -1,0 +1,35 @@
+// Nominal-state models and their error-state Jacobians (DESIGN.md "Filter").
+// Every Jacobian here is checked against central finite differences in
+// test/test_jacobians.cpp (the thesis's printed equations contain typos).
+#pragma once
+
+#include "hapi_eskf/settings.hpp"
+#include "hapi_eskf/types.hpp"
+
+namespace hapi_eskf {
+
+// Constant-velocity step of length dt (DESIGN.md "Predict"):
+//   p <- p + R v dt; R <- R Exp(w dt); v <- Gamma^dt v; w <- Lambda^dt w.
+PoseState predictPose(const PoseState& x, double dt, const EskfSettings& s);
+
+// F = d(error after predict) / d(error before), 12 x 12.
+Mat12 predictJacobian(const PoseState& x, double dt, const EskfSettings& s);
+
+// Process noise for a step of length dt: random walks on v and w.
+Mat12 processNoise(double dt, const EskfSettings& s);
+
+// h(x) = R^T (m - p): landmark m (world) in the camera frame.
+Vec3 measure(const PoseState& x, const Vec3& m);
+// dh/d[dp, dtheta] (3 x 6) and dh/ddm (3 x 3).
+void measurementJacobian(const PoseState& x, const Vec3& m, Mat36* H_pose, Mat3* H_landmark);
+
+// m = p + R z: a new landmark from a camera-frame measurement z.
+Vec3 initLandmark(const PoseState& x, const Vec3& z);
+// dm/d[dp, dtheta] (3 x 6) and dm/dz (3 x 3).
+void newLandmarkJacobian(const PoseState& x, const Vec3& z, Mat36* G_pose, Mat3* G_z);
+
+// Injects the pose part of an error-state correction: p += dp,
+// q <- q Exp(dtheta), v += dv, w += dw.
+void injectPose(PoseState* x, const Eigen::Ref<const Eigen::VectorXd>& dx12);
+
+}  // namespace hapi_eskf

@@ -1,0 +1,50 @@
+// Filter settings. Field names are the ROS parameter names used by the
+// nodelet (config/eskf.yaml), so a user sees one vocabulary everywhere.
+#pragma once
+
+#include <string>
+
+namespace hapi_eskf {
+
+enum class BackendKind { kCpu, kCuda };
+enum class Precision { kFp64, kFp32 };  // storage/compute precision of C (CUDA backend)
+
+struct EskfSettings {
+  // --- pool and per-iteration sizes (issue 3) ---
+  int max_landmarks = 2000;          // K_max: capacity of the landmark pool
+  int max_new_landmarks = 20;        // landmarks initialised per iteration
+  int max_update_landmarks = 200;    // old landmarks used per update (L)
+  double full_pool_add_fraction = 0.5;  // when the pool is full: evict so this fraction
+                                        // of max_new_landmarks can still be added
+  BackendKind backend = BackendKind::kCpu;
+  Precision precision = Precision::kFp64;
+  int cuda_device = 0;
+
+  // --- association (DESIGN.md "Gate each association") ---
+  int max_hamming = 64;          // descriptor distance accepted as a candidate
+  double match_ratio = 0.8;      // best / second-best Hamming ratio test
+  double gate_chi2 = 11.345;     // Mahalanobis gate, chi^2(3) at 99 %
+
+  // --- motion model (DESIGN.md "Predict") ---
+  double velocity_damping = 1.0;          // Gamma: v <- Gamma v per second (1 = none)
+  double angular_velocity_damping = 1.0;  // Lambda: w <- Lambda w per second
+  double sigma_acceleration = 0.5;        // [m/s^2/sqrt(Hz)] random-walk on v
+  double sigma_angular_acceleration = 0.5;  // [rad/s^2/sqrt(Hz)] random-walk on w
+
+  // --- initial uncertainty of the first pose (the world frame is the first camera) ---
+  double initial_sigma_position = 1e-3;   // [m]
+  double initial_sigma_orientation = 1e-3;  // [rad]
+  double initial_sigma_velocity = 0.2;    // [m/s]
+  double initial_sigma_angular_velocity = 0.5;  // [rad/s]
+
+  // Empty when valid, else a message naming the offending field and its range.
+  std::string validate() const;
+};
+
+const char* toString(BackendKind b);
+const char* toString(Precision p);
+// Parses "cpu"/"cuda" and "fp64"/"fp32"; false on anything else.
+bool parseBackendKind(const std::string& s, BackendKind* out);
+bool parsePrecision(const std::string& s, Precision* out);
+
+}  // namespace hapi_eskf

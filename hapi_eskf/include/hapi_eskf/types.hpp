@@ -1,0 +1,76 @@
+// Plain data types of the filter. Frames follow REP-103: the camera frame is
+// the left optical frame (x right, y down, z forward); the world frame is
+// fixed, and orientation q maps camera to world.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace hapi_eskf {
+
+using Mat3 = Eigen::Matrix3d;
+using Vec3 = Eigen::Vector3d;
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+using Mat36 = Eigen::Matrix<double, 3, 6>;
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+
+// Error-state layout (DESIGN.md "Filter"): [dp, dtheta, dv, dw, dm_0, dm_1, ...].
+constexpr int kPoseDim = 12;
+constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;
+inline int landmarkRow(int slot) { return kPoseDim + 3 * slot; }
+inline int stateDim(int n_landmarks) { return kPoseDim + 3 * n_landmarks; }
+
+// Nominal pose part of the state.
+struct PoseState {
+  Vec3 p = Vec3::Zero();                             // camera position in world [m]
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  // camera -> world
+  Vec3 v = Vec3::Zero();                             // linear velocity, camera frame [m/s]
+  Vec3 w = Vec3::Zero();                             // angular velocity, camera frame [rad/s]
+};
+
+// One stereo landmark measurement from the front end (hapi_msgs/StereoLandmark).
+struct StereoMeasurement {
+  Vec3 z = Vec3::Zero();     // position in the camera frame [m]
+  Mat3 Cz = Mat3::Identity();  // its covariance [m^2]
+  uint32_t frontend_id = 0;  // id within the frame (unique per message)
+  float response = 0.f;      // detector strength: higher is better
+  std::array<uint8_t, 3> rgb{{0, 0, 0}};
+};
+
+// Everything the filter needs from one StereoLandmarks message.
+struct StereoFrame {
+  double stamp = 0.0;            // [s]
+  int descriptor_length = 0;     // bytes per descriptor
+  std::vector<uint8_t> descriptors;  // measurements.size() * descriptor_length
+  std::vector<StereoMeasurement> measurements;
+};
+
+// A landmark of the pool as seen from outside (map publishing, PLY export).
+struct LandmarkInfo {
+  uint64_t id = 0;           // unique for the lifetime of the filter
+  Vec3 position = Vec3::Zero();  // world [m]
+  Mat3 covariance = Mat3::Zero();  // marginal [m^2]
+  std::array<uint8_t, 3> rgb{{0, 0, 0}};
+  int times_observed = 0;
+  double last_seen = 0.0;
+};
+
+// Per-iteration figures for diagnostics and the benchmark (milliseconds).
+struct IterationReport {
+  double t_predict_ms = 0, t_association_ms = 0, t_update_ms = 0, t_removal_ms = 0, t_addition_ms = 0,
+         t_total_ms = 0;
+  int n_measurements = 0;  // in the frame
+  int n_candidates = 0;    // descriptor matches before gating
+  int n_gated_out = 0;     // rejected by the Mahalanobis gate
+  int n_updated = 0;       // used in the update (<= max_update_landmarks)
+  int n_added = 0, n_removed = 0;
+  int n_landmarks = 0;     // pool size after the iteration
+  double mean_nis = 0;     // mean normalised innovation squared of the used measurements
+  bool update_skipped = false;  // S not PD etc.: state left unchanged
+};
+
+}  // namespace hapi_eskf
