@@ -35,7 +35,26 @@ if(HAPI_WITH_CUDA)
   endif()
 endif()
 
-find_package(Eigen3 REQUIRED NO_MODULE)
+# Eigen: the system package, or (on the GPU machine, which has CUDA but no
+# Debian -dev packages) a header tree given with -DHAPI_EIGEN_INCLUDE_DIR=...
+if(HAPI_EIGEN_INCLUDE_DIR)
+  add_library(Eigen3::Eigen INTERFACE IMPORTED GLOBAL)
+  set_target_properties(Eigen3::Eigen PROPERTIES INTERFACE_INCLUDE_DIRECTORIES ${HAPI_EIGEN_INCLUDE_DIR})
+else()
+  find_package(Eigen3 REQUIRED NO_MODULE)
+endif()
+
+# GoogleTest for the plain build: the system package, or a source tree given
+# with -DHAPI_GTEST_SOURCE_DIR=... (built here; used on the GPU machine).
+if(NOT catkin_FOUND AND HAPI_GTEST_SOURCE_DIR AND NOT TARGET GTest::gtest)
+  set(INSTALL_GTEST OFF CACHE BOOL "" FORCE)
+  set(BUILD_GMOCK OFF CACHE BOOL "" FORCE)
+  add_subdirectory(${HAPI_GTEST_SOURCE_DIR} ${CMAKE_BINARY_DIR}/_gtest EXCLUDE_FROM_ALL)
+  if(NOT TARGET GTest::gtest)
+    add_library(GTest::gtest ALIAS gtest)
+    add_library(GTest::gtest_main ALIAS gtest_main)
+  endif()
+endif()
 
 # gtest for the ROS-free build (catkin brings its own via catkin_add_gtest).
 # hapi_add_core_gtest(name SOURCES ... LIBS ...) registers a gtest in both worlds.
@@ -49,7 +68,9 @@ function(hapi_add_core_gtest name)
       endif()
     endif()
   else()
-    find_package(GTest REQUIRED)
+    if(NOT TARGET GTest::gtest)
+      find_package(GTest REQUIRED)
+    endif()
     add_executable(${name} ${ARG_SOURCES})
     target_link_libraries(${name} ${ARG_LIBS} GTest::gtest GTest::gtest_main)
     add_test(NAME ${name} COMMAND ${name})
