@@ -37,7 +37,13 @@ class Eskf {
   // measurement for the step, then the constant-velocity step runs.
   Status predictWithGyro(double stamp, const Vec3& gyro_camera, double sigma_gyro);
 
-  // One filter iteration. On any error the state is unchanged.
+  // One filter iteration. On any input error (kNonFinite, kDuplicateId,
+  // kCapacityExceeded, kInvalidArgument, kEmptyInput for a frame without
+  // measurements, kNotPositiveDefinite for a non-PD measurement covariance)
+  // the state is unchanged. The one exception is a joint innovation covariance
+  // S found not PD inside the update: the update is skipped
+  // (report->update_skipped), the prediction and bookkeeping still apply, and
+  // kNotPositiveDefinite is returned (see src/core/eskf.cpp).
   Status processFrame(const StereoFrame& frame, IterationReport* report = nullptr);
 
   const PoseState& pose() const { return pose_; }

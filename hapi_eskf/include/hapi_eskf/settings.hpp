@@ -14,6 +14,8 @@ struct EskfSettings {
   int max_landmarks = 2000;          // K_max: capacity of the landmark pool
   int max_new_landmarks = 20;        // landmarks initialised per iteration
   int max_update_landmarks = 200;    // old landmarks used per update (L)
+  int max_frame_measurements = 4000;  // a frame with more measurements is rejected
+                                      // (kCapacityExceeded): bounds the per-frame work
   double full_pool_add_fraction = 0.5;  // when the pool is full: evict so this fraction
                                         // of max_new_landmarks can still be added
   BackendKind backend = BackendKind::kCpu;

@@ -1,0 +1,37 @@
+// Data association of one frame against the landmark pool (DESIGN.md "Gate
+// each association"): descriptor best/second-best with a Hamming threshold and
+// a ratio test, then a chi^2(3) Mahalanobis gate with S_j = H_j M_j H_j^T + C_z
+// built from the backend's 9x9 marginals, then one measurement per landmark
+// (the one with the smallest Mahalanobis distance wins).
+#pragma once
+
+#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/settings.hpp"
+#include "hapi_eskf/status.hpp"
+#include "hapi_eskf/types.hpp"
+
+#include <vector>
+
+namespace hapi_eskf {
+
+struct Association {
+  // Per measurement of the frame: the associated slot, or -1.
+  std::vector<int> slot;
+  // Per measurement: squared Mahalanobis distance of the accepted association (else 0).
+  std::vector<double> d2;
+  // Per measurement: true when it may start a new landmark, i.e. it has no
+  // accepted association and did not lose a landmark to another measurement
+  // of the same frame (the loser saw an existing landmark: adding it would
+  // duplicate that landmark). Measurements rejected by the gate are eligible:
+  // the gate says they are not that landmark.
+  std::vector<char> may_add;
+  int n_candidates = 0;  // descriptor matches (threshold + ratio test) before gating
+  int n_gated_out = 0;   // rejected by the Mahalanobis gate (or S_j not PD)
+  int n_conflicts = 0;   // dropped because another measurement took the same landmark
+};
+
+// `positions` are the landmark positions in slot order (size numLandmarks()).
+Status associate(const StereoFrame& frame, const PoseState& pose, const std::vector<Vec3>& positions,
+                 const CovarianceBackend& backend, const EskfSettings& settings, Association* out);
+
+}  // namespace hapi_eskf

@@ -1,0 +1,51 @@
+// Backend selection from the settings; the CUDA entry points are compiled in
+// only when src/cuda was built (HAPI_ESKF_WITH_CUDA).
+#include "hapi_eskf/covariance_backend.hpp"
+
+#ifdef HAPI_ESKF_WITH_CUDA
+#include "hapi_eskf/cuda/cuda_backend.hpp"
+#endif
+
+namespace hapi_eskf {
+
+bool cudaBackendAvailable(std::string* why) {
+#ifdef HAPI_ESKF_WITH_CUDA
+  std::string info;
+  const bool ok = cuda::deviceAvailable(0, &info);
+  if (why) *why = info;
+  return ok;
+#else
+  if (why) *why = "hapi_eskf was built without CUDA (HAPI_WITH_CUDA=OFF or nvcc not found)";
+  return false;
+#endif
+}
+
+std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descriptor_length, std::string* error) {
+  const std::string bad = s.validate();
+  if (!bad.empty()) {
+    if (error) *error = bad;
+    return nullptr;
+  }
+  if (descriptor_length < 0) {
+    if (error) *error = "descriptor_length must be >= 0";
+    return nullptr;
+  }
+  if (s.backend == BackendKind::kCpu) {
+    if (s.precision != Precision::kFp64) {
+      if (error) *error = "the cpu backend supports precision fp64 only";
+      return nullptr;
+    }
+    return makeCpuBackend(s.max_landmarks, descriptor_length);
+  }
+#ifdef HAPI_ESKF_WITH_CUDA
+  std::string err;
+  auto b = cuda::makeCudaBackend(s.max_landmarks, descriptor_length, s.precision, s.cuda_device, &err);
+  if (!b && error) *error = err.empty() ? std::string("cuda backend creation failed") : err;
+  return b;
+#else
+  if (error) *error = "backend 'cuda' requested but hapi_eskf was built without CUDA";
+  return nullptr;
+#endif
+}
+
+}  // namespace hapi_eskf

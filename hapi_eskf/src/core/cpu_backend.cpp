@@ -1,0 +1,331 @@
+// Eigen reference backend (DESIGN.md "Update", "New landmark", "Removal").
+// Storage: one capacity-sized column-major buffer (N = 12 + 3*capacity square);
+// the live state is its top-left n x n corner, landmarks in contiguous slots,
+// and only the LOWER triangle of that corner is authoritative (the SYRK-style
+// rank update writes just that triangle). Every method validates all inputs
+// before touching C, so an error return leaves the state bit-for-bit unchanged.
+#include "hapi_eskf/covariance_backend.hpp"
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace hapi_eskf {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+template <typename Derived>
+bool allFinite(const Eigen::MatrixBase<Derived>& m) {
+  return m.allFinite();
+}
+
+// Symmetric, finite and positive definite (Cholesky succeeds).
+bool symmetricPd(const Mat3& M) {
+  if (!M.allFinite()) return false;
+  if (((M - M.transpose()).cwiseAbs().maxCoeff()) > 1e-9 * (1.0 + M.cwiseAbs().maxCoeff())) return false;
+  Eigen::LLT<Mat3> llt(M);
+  return llt.info() == Eigen::Success;
+}
+
+int popcount64(uint64_t x) { return __builtin_popcountll(x); }
+
+class CpuBackend final : public CovarianceBackend {
+ public:
+  CpuBackend(int capacity, int descriptor_length)
+      : capacity_(capacity),
+        desc_len_(descriptor_length),
+        N_(stateDim(capacity)),
+        C_(MatrixXd::Zero(N_, N_)),
+        desc_(static_cast<std::size_t>(capacity) * descriptor_length, 0) {}
+
+  const char* name() const override { return "cpu"; }
+  int capacity() const override { return capacity_; }
+  int numLandmarks() const override { return K_; }
+  int descriptorLength() const override { return desc_len_; }
+  std::size_t memoryBytes() const override {
+    return sizeof(double) * static_cast<std::size_t>(N_) * N_ + desc_.size();
+  }
+
+  Status reset(const Mat12& C_pose) override {
+    if (!C_pose.allFinite()) return Status::kNonFinite;
+    if ((C_pose - C_pose.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C_pose.cwiseAbs().maxCoeff()))
+      return Status::kInvalidArgument;
+    Eigen::LLT<Mat12> llt(C_pose);
+    if (llt.info() != Eigen::Success) return Status::kNotPositiveDefinite;
+    K_ = 0;
+    C_.topLeftCorner<kPoseDim, kPoseDim>() = C_pose;
+    return Status::kOk;
+  }
+
+  Status predict(const Mat12& F, const Mat12& Q) override {
+    if (!F.allFinite() || !Q.allFinite()) return Status::kNonFinite;
+    const int n = dim();
+    const Mat12 Cpp = symPose();
+    Mat12 Cn = F * Cpp * F.transpose() + Q;
+    Cn = 0.5 * (Cn + Cn.transpose());
+    C_.topLeftCorner<kPoseDim, kPoseDim>() = Cn;
+    if (n > kPoseDim) {
+      // C_mp (stored in the lower triangle, rows 12..n) <- C_mp F^T: O(K).
+      auto Cmp = C_.block(kPoseDim, 0, n - kPoseDim, kPoseDim);
+      const MatrixXd tmp = Cmp * F.transpose();
+      Cmp = tmp;
+    }
+    return Status::kOk;
+  }
+
+  Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
+    if (!out) return Status::kInvalidArgument;
+    for (int s : slots)
+      if (s < 0 || s >= K_) return Status::kInvalidArgument;
+    out->resize(slots.size());
+    const Mat12 Cpp = symPose();
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      const int r = landmarkRow(slots[i]);
+      Mat9& M = (*out)[i];
+      M.topLeftCorner<6, 6>() = Cpp.topLeftCorner<6, 6>();
+      M.block<3, 6>(6, 0) = C_.block<3, 6>(r, 0);
+      M.block<6, 3>(0, 6) = C_.block<3, 6>(r, 0).transpose();
+      M.block<3, 3>(6, 6) = symBlock3(r);
+    }
+    return Status::kOk;
+  }
+
+  Status update(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
+    if (blocks.empty()) return Status::kEmptyInput;
+    if (!dx) return Status::kInvalidArgument;
+    if (static_cast<int>(blocks.size()) > K_) return Status::kCapacityExceeded;
+    {
+      std::vector<char> used(K_, 0);
+      for (const auto& b : blocks) {
+        if (b.slot < 0 || b.slot >= K_) return Status::kInvalidArgument;
+        if (used[b.slot]) return Status::kDuplicateId;
+        used[b.slot] = 1;
+        if (!b.H_pose.allFinite() || !b.H_landmark.allFinite() || !b.R.allFinite() || !b.innovation.allFinite())
+          return Status::kNonFinite;
+      }
+    }
+    const int n = dim();
+    const int L = static_cast<int>(blocks.size());
+    const int m = 3 * L;
+
+    // 1. P = C H^T by gathering: the 6 pose columns once, then 3 landmark
+    //    columns per measurement (full columns rebuilt from the lower triangle).
+    const MatrixXd Cx6 = gatherColumns(0, 6, n);  // n x 6
+    MatrixXd P(n, m);
+    MatrixXd G3(n, 3);
+    for (int j = 0; j < L; ++j) {
+      const auto& b = blocks[j];
+      gatherColumnsInto(landmarkRow(b.slot), 3, n, &G3);
+      P.middleCols<3>(3 * j).noalias() = Cx6 * b.H_pose.transpose();
+      P.middleCols<3>(3 * j).noalias() += G3 * b.H_landmark.transpose();
+    }
+    // 2. S = H P + R (only the rows of P that H touches), symmetrised.
+    MatrixXd S(m, m);
+    VectorXd z(m);
+    for (int i = 0; i < L; ++i) {
+      const auto& b = blocks[i];
+      const int r = landmarkRow(b.slot);
+      S.middleRows<3>(3 * i).noalias() = b.H_pose * P.topRows<6>();
+      S.middleRows<3>(3 * i).noalias() += b.H_landmark * P.middleRows<3>(r);
+      z.segment<3>(3 * i) = b.innovation;
+    }
+    for (int i = 0; i < L; ++i) S.block<3, 3>(3 * i, 3 * i) += blocks[i].R;
+    S = (0.5 * (S + S.transpose())).eval();
+    if (!S.allFinite()) return Status::kNonFinite;
+    Eigen::LLT<MatrixXd> llt(S);
+    if (llt.info() != Eigen::Success) return Status::kNotPositiveDefinite;
+    {
+      // Eigen's LLT only fails on a non-positive pivot; also refuse a
+      // numerically singular factor, which would blow up the gain.
+      const VectorXd d = llt.matrixLLT().diagonal();
+      if (!(d.minCoeff() > 1e-12 * std::sqrt(std::max(1e-300, S.diagonal().maxCoeff()))))
+        return Status::kNotPositiveDefinite;
+    }
+    // 3. A = P L^-T (triangular solve from the right), y = L^-1 z, dx = A y.
+    llt.matrixU().solveInPlace<Eigen::OnTheRight>(P);
+    const VectorXd y = llt.matrixL().solve(z);
+    VectorXd dxn = P * y;
+    if (!dxn.allFinite()) return Status::kNonFinite;
+    // 4. C <- C - A A^T on the lower triangle only (SYRK).
+    C_.topLeftCorner(n, n).selfadjointView<Eigen::Lower>().rankUpdate(P, -1.0);
+    *dx = std::move(dxn);
+    if (nis) *nis = y.squaredNorm();
+    return Status::kOk;
+  }
+
+  Status addLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
+    if (blocks.empty()) return Status::kOk;
+    if (K_ + static_cast<int>(blocks.size()) > capacity_) return Status::kCapacityExceeded;
+    for (const auto& b : blocks) {
+      if (!b.G_pose.allFinite() || !b.G_z.allFinite() || !b.Cz.allFinite()) return Status::kNonFinite;
+      if (!symmetricPd(b.Cz)) return Status::kNotPositiveDefinite;
+      if (desc_len_ > 0 && b.descriptor == nullptr) return Status::kInvalidArgument;
+    }
+    const int n = dim();
+    // Rows [dp, dtheta] of the old state, as columns (n x 6), from before the addition.
+    const MatrixXd Cx6 = gatherColumns(0, 6, n);
+    const Eigen::Matrix<double, 6, 6> Cpp6 = Cx6.topRows<6>();
+    const int M = static_cast<int>(blocks.size());
+    for (int i = 0; i < M; ++i) {
+      const auto& b = blocks[i];
+      const int r = n + 3 * i;
+      // Cross-covariance with the whole old state (lower triangle: row r > every old column).
+      C_.block(r, 0, 3, n).noalias() = b.G_pose * Cx6.transpose();
+      // With the landmarks added earlier in this call: G_i C_pp G_j^T.
+      for (int j = 0; j < i; ++j)
+        C_.block<3, 3>(r, n + 3 * j).noalias() = b.G_pose * Cpp6 * blocks[j].G_pose.transpose();
+      Mat3 Cmm = b.G_pose * Cpp6 * b.G_pose.transpose() + b.G_z * b.Cz * b.G_z.transpose();
+      C_.block<3, 3>(r, r) = 0.5 * (Cmm + Cmm.transpose());
+      if (desc_len_ > 0)
+        std::memcpy(&desc_[static_cast<std::size_t>(K_ + i) * desc_len_], b.descriptor, desc_len_);
+    }
+    K_ += M;
+    return Status::kOk;
+  }
+
+  Status removeLandmarks(const std::vector<int>& slots) override {
+    if (slots.empty()) return Status::kOk;
+    std::vector<char> drop(K_, 0);
+    for (int s : slots) {
+      if (s < 0 || s >= K_) return Status::kInvalidArgument;
+      if (drop[s]) return Status::kDuplicateId;
+      drop[s] = 1;
+    }
+    const int n = dim();
+    // Old index of every kept row/column, in increasing order.
+    std::vector<int> keep;
+    keep.reserve(n);
+    for (int i = 0; i < kPoseDim; ++i) keep.push_back(i);
+    for (int k = 0; k < K_; ++k)
+      if (!drop[k])
+        for (int c = 0; c < 3; ++c) keep.push_back(landmarkRow(k) + c);
+    const int nn = static_cast<int>(keep.size());
+    // One in-place pass over the lower triangle, column by column, top to
+    // bottom: the destination (in, jn) never lies after the source (io, jo) in
+    // column-major order and both sequences are increasing, so nothing is
+    // overwritten before it has been read.
+    double* c = C_.data();
+    const std::ptrdiff_t N = N_;
+    for (int jn = 0; jn < nn; ++jn) {
+      const int jo = keep[jn];
+      for (int in = jn; in < nn; ++in) c[in + jn * N] = c[keep[in] + jo * N];
+    }
+    if (desc_len_ > 0) {
+      int dst = 0;
+      for (int k = 0; k < K_; ++k) {
+        if (drop[k]) continue;
+        if (dst != k)
+          std::memmove(&desc_[static_cast<std::size_t>(dst) * desc_len_],
+                       &desc_[static_cast<std::size_t>(k) * desc_len_], desc_len_);
+        ++dst;
+      }
+    }
+    K_ -= static_cast<int>(slots.size());
+    return Status::kOk;
+  }
+
+  Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const override {
+    if (!out || n_query < 0) return Status::kInvalidArgument;
+    if (n_query > 0 && !queries) return Status::kInvalidArgument;
+    out->assign(n_query, DescriptorMatch{});
+    if (desc_len_ == 0 || K_ == 0) return Status::kOk;
+    const int words = desc_len_ / 8, tail = desc_len_ % 8;
+    for (int q = 0; q < n_query; ++q) {
+      const uint8_t* a = queries + static_cast<std::size_t>(q) * desc_len_;
+      DescriptorMatch& M = (*out)[q];
+      for (int k = 0; k < K_; ++k) {
+        const uint8_t* b = &desc_[static_cast<std::size_t>(k) * desc_len_];
+        int d = 0;
+        for (int w = 0; w < words; ++w) {
+          uint64_t x, y;
+          std::memcpy(&x, a + 8 * w, 8);
+          std::memcpy(&y, b + 8 * w, 8);
+          d += popcount64(x ^ y);
+        }
+        for (int t = 0; t < tail; ++t) d += popcount64(static_cast<uint64_t>(a[8 * words + t] ^ b[8 * words + t]));
+        if (d < M.best_distance) {
+          M.second_distance = M.best_distance;
+          M.second_slot = M.best_slot;
+          M.best_distance = d;
+          M.best_slot = k;
+        } else if (d < M.second_distance) {
+          M.second_distance = d;
+          M.second_slot = k;
+        }
+      }
+    }
+    return Status::kOk;
+  }
+
+  Mat12 poseCovariance() const override { return symPose(); }
+
+  std::vector<Mat3> landmarkCovariances() const override {
+    std::vector<Mat3> out(K_);
+    for (int k = 0; k < K_; ++k) out[k] = symBlock3(landmarkRow(k));
+    return out;
+  }
+
+  MatrixXd denseCovariance() const override {
+    const int n = dim();
+    MatrixXd D = C_.topLeftCorner(n, n).triangularView<Eigen::Lower>();
+    D.triangularView<Eigen::StrictlyUpper>() = D.transpose().triangularView<Eigen::StrictlyUpper>();
+    return D;
+  }
+
+  std::vector<uint8_t> descriptors() const override {
+    return std::vector<uint8_t>(desc_.begin(), desc_.begin() + static_cast<std::size_t>(K_) * desc_len_);
+  }
+
+ private:
+  int dim() const { return stateDim(K_); }
+
+  Mat12 symPose() const {
+    Mat12 P = C_.topLeftCorner<kPoseDim, kPoseDim>().triangularView<Eigen::Lower>();
+    P.triangularView<Eigen::StrictlyUpper>() = P.transpose().triangularView<Eigen::StrictlyUpper>();
+    return P;
+  }
+
+  Mat3 symBlock3(int r) const {
+    Mat3 B = C_.block<3, 3>(r, r).triangularView<Eigen::Lower>();
+    B.triangularView<Eigen::StrictlyUpper>() = B.transpose().triangularView<Eigen::StrictlyUpper>();
+    return B;
+  }
+
+  MatrixXd gatherColumns(int c0, int w, int n) const {
+    MatrixXd G(n, w);
+    gatherColumnsInto(c0, w, n, &G);
+    return G;
+  }
+
+  // Full columns c0..c0+w-1 of the symmetric C (rows 0..n-1) from its lower
+  // triangle: entries above the diagonal come from row c (strided), those on
+  // and below from column c (contiguous). O(n w).
+  void gatherColumnsInto(int c0, int w, int n, MatrixXd* G) const {
+    for (int t = 0; t < w; ++t) {
+      const int c = c0 + t;
+      auto g = G->col(t);
+      g.head(c) = C_.row(c).head(c).transpose();
+      g.tail(n - c) = C_.col(c).segment(c, n - c);
+    }
+  }
+
+  int capacity_;
+  int desc_len_;
+  int N_;
+  int K_ = 0;
+  MatrixXd C_;
+  std::vector<uint8_t> desc_;
+};
+
+}  // namespace
+
+std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_length) {
+  if (capacity < 0 || descriptor_length < 0) return nullptr;
+  return std::make_unique<CpuBackend>(capacity, descriptor_length);
+}
+
+}  // namespace hapi_eskf

@@ -1,0 +1,336 @@
+// Host side of the filter: nominal state, bookkeeping and the iteration of
+// DESIGN.md "Filter". The covariance lives in the backend.
+//
+// Policies (documented choices):
+//  * An empty frame returns kEmptyInput and does nothing (not even predict):
+//    every non-kOk return leaves the state unchanged, and nothing is lost
+//    because the next frame predicts over the whole interval.
+//  * Measurements used in the update: at most max_update_landmarks, the ones
+//    with the strongest detector response. Response is independent of the
+//    measurement noise, so this choice does not bias the update the way
+//    "smallest innovation first" would.
+//  * Pool full: the least recently seen landmarks (ties: fewest observations,
+//    then oldest id) that are not used in this frame's update are removed so
+//    that min(#candidates, ceil(full_pool_add_fraction * max_new_landmarks))
+//    new landmarks fit; new landmarks are the strongest unassociated
+//    measurements.
+//  * The one error detected after state changes: a joint S that is not PD (or
+//    a non-finite correction) in the update. The update is then skipped
+//    (report.update_skipped), the prediction and the bookkeeping of this frame
+//    still apply (the state stays a consistent predicted state) and
+//    processFrame returns kNotPositiveDefinite.
+//  * The ESKF reset Jacobian (I - [dtheta/2]x on the orientation block after
+//    injection) is taken as identity, as usual for small corrections.
+#include "hapi_eskf/eskf.hpp"
+
+#include "hapi_eskf/association.hpp"
+#include "hapi_eskf/jacobians.hpp"
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <unordered_set>
+
+namespace hapi_eskf {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+Mat12 initialCovariance(const EskfSettings& s) {
+  Mat12 C = Mat12::Zero();
+  C.diagonal().segment<3>(kIdxP).setConstant(s.initial_sigma_position * s.initial_sigma_position);
+  C.diagonal().segment<3>(kIdxTheta).setConstant(s.initial_sigma_orientation * s.initial_sigma_orientation);
+  C.diagonal().segment<3>(kIdxV).setConstant(s.initial_sigma_velocity * s.initial_sigma_velocity);
+  C.diagonal().segment<3>(kIdxW).setConstant(s.initial_sigma_angular_velocity * s.initial_sigma_angular_velocity);
+  return C;
+}
+
+}  // namespace
+
+Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend)
+    : settings_(settings), backend_(std::move(backend)) {
+  // Construction never throws; a mismatch is reported by reset()/processFrame().
+  if (backend_ && settings_.validate().empty() && backend_->capacity() == settings_.max_landmarks)
+    reset(PoseState(), 0.0);
+}
+
+Status Eskf::reset(const PoseState& initial, double stamp) {
+  if (!backend_) return Status::kBackendUnavailable;
+  if (!settings_.validate().empty()) return Status::kInvalidArgument;
+  if (backend_->capacity() != settings_.max_landmarks) return Status::kInvalidArgument;
+  if (!std::isfinite(stamp) || !initial.p.allFinite() || !initial.q.coeffs().allFinite() || !initial.v.allFinite() ||
+      !initial.w.allFinite())
+    return Status::kNonFinite;
+  if (initial.q.norm() < 1e-6) return Status::kInvalidArgument;
+  const Status st = backend_->reset(initialCovariance(settings_));
+  if (st != Status::kOk) return st;
+  pose_ = initial;
+  pose_.q.normalize();
+  time_ = stamp;
+  initialised_ = true;
+  ids_.clear();
+  positions_.clear();
+  colours_.clear();
+  times_observed_.clear();
+  last_seen_.clear();
+  return Status::kOk;
+}
+
+Status Eskf::predictTo(double stamp) {
+  if (!initialised_) return Status::kBackendUnavailable;
+  if (!std::isfinite(stamp)) return Status::kNonFinite;
+  if (stamp < time_) return Status::kInvalidArgument;
+  const double dt = stamp - time_;
+  if (dt == 0.0) return Status::kOk;
+  const Status st = backend_->predict(predictJacobian(pose_, dt, settings_), processNoise(dt, settings_));
+  if (st != Status::kOk) return st;
+  pose_ = predictPose(pose_, dt, settings_);
+  time_ = stamp;
+  return Status::kOk;
+}
+
+// w <- gyro for the step: as an error-state map that is dw' = n_gyro, i.e.
+// F_rep = diag(I, I, I, 0) and Q_rep,ww = sigma^2 / dt (white rate noise of
+// density sigma averaged over dt). Combined with the constant-velocity step:
+// F = F_cv F_rep, Q = F_cv Q_rep F_cv^T + Q_cv, one backend call.
+Status Eskf::predictWithGyro(double stamp, const Vec3& gyro_camera, double sigma_gyro) {
+  if (!initialised_) return Status::kBackendUnavailable;
+  if (!std::isfinite(stamp) || !gyro_camera.allFinite() || !std::isfinite(sigma_gyro)) return Status::kNonFinite;
+  if (stamp < time_ || !(sigma_gyro > 0.0)) return Status::kInvalidArgument;
+  const double dt = stamp - time_;
+  if (dt == 0.0) return Status::kOk;
+  PoseState x = pose_;
+  x.w = gyro_camera;
+  Mat12 F_rep = Mat12::Identity();
+  F_rep.block<3, 3>(kIdxW, kIdxW).setZero();
+  Mat12 Q_rep = Mat12::Zero();
+  Q_rep.block<3, 3>(kIdxW, kIdxW).diagonal().setConstant(sigma_gyro * sigma_gyro / dt);
+  const Mat12 F_cv = predictJacobian(x, dt, settings_);
+  const Mat12 F = F_cv * F_rep;
+  const Mat12 Q = F_cv * Q_rep * F_cv.transpose() + processNoise(dt, settings_);
+  const Status st = backend_->predict(F, Q);
+  if (st != Status::kOk) return st;
+  pose_ = predictPose(x, dt, settings_);
+  time_ = stamp;
+  return Status::kOk;
+}
+
+Mat12 Eskf::poseCovariance() const { return backend_ ? backend_->poseCovariance() : Mat12::Zero(); }
+
+std::vector<LandmarkInfo> Eskf::landmarks() const {
+  std::vector<LandmarkInfo> out(ids_.size());
+  if (!backend_) return out;
+  const std::vector<Mat3> cov = backend_->landmarkCovariances();
+  for (std::size_t k = 0; k < ids_.size(); ++k) {
+    out[k].id = ids_[k];
+    out[k].position = positions_[k];
+    out[k].covariance = k < cov.size() ? cov[k] : Mat3::Zero();
+    out[k].rgb = colours_[k];
+    out[k].times_observed = times_observed_[k];
+    out[k].last_seen = last_seen_[k];
+  }
+  return out;
+}
+
+Status Eskf::checkFrame(const StereoFrame& frame) const {
+  if (!std::isfinite(frame.stamp)) return Status::kNonFinite;
+  if (frame.stamp < time_) return Status::kInvalidArgument;
+  const int n = static_cast<int>(frame.measurements.size());
+  if (n == 0) return Status::kEmptyInput;
+  if (n > settings_.max_frame_measurements) return Status::kCapacityExceeded;
+  if (frame.descriptor_length != backend_->descriptorLength()) return Status::kInvalidArgument;
+  if (frame.descriptors.size() != static_cast<std::size_t>(n) * static_cast<std::size_t>(frame.descriptor_length))
+    return Status::kInvalidArgument;
+  std::unordered_set<uint32_t> seen;
+  seen.reserve(2 * n);
+  for (const auto& m : frame.measurements) {
+    if (!m.z.allFinite() || !m.Cz.allFinite() || !std::isfinite(m.response)) return Status::kNonFinite;
+    if (!seen.insert(m.frontend_id).second) return Status::kDuplicateId;
+  }
+  for (const auto& m : frame.measurements) {
+    const double scale = 1.0 + m.Cz.cwiseAbs().maxCoeff();
+    if ((m.Cz - m.Cz.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) return Status::kNotPositiveDefinite;
+    Eigen::LLT<Mat3> llt(m.Cz);
+    if (llt.info() != Eigen::Success) return Status::kNotPositiveDefinite;
+  }
+  return Status::kOk;
+}
+
+Status Eskf::processFrame(const StereoFrame& frame, IterationReport* report) {
+  const auto t_start = Clock::now();
+  IterationReport rep;
+  rep.n_measurements = static_cast<int>(frame.measurements.size());
+  rep.n_landmarks = numLandmarks();
+  auto finish = [&](Status s) {
+    rep.t_total_ms = msSince(t_start);
+    rep.n_landmarks = numLandmarks();
+    if (report) *report = rep;
+    return s;
+  };
+  if (!backend_) return finish(Status::kBackendUnavailable);
+  if (!initialised_) return finish(Status::kBackendUnavailable);
+  // Everything that can be wrong with the input is found here, before any change.
+  Status st = checkFrame(frame);
+  if (st != Status::kOk) return finish(st);
+  const int n = rep.n_measurements;
+
+  // --- predict ---
+  auto t0 = Clock::now();
+  st = predictTo(frame.stamp);
+  rep.t_predict_ms = msSince(t0);
+  if (st != Status::kOk) return finish(st);
+
+  // --- association ---
+  t0 = Clock::now();
+  Association assoc;
+  st = associate(frame, pose_, positions_, *backend_, settings_, &assoc);
+  rep.t_association_ms = msSince(t0);
+  if (st != Status::kOk) return finish(st);
+  rep.n_candidates = assoc.n_candidates;
+  rep.n_gated_out = assoc.n_gated_out;
+
+  // Strongest response first (stable: ties keep frame order).
+  std::vector<int> by_response(n);
+  std::iota(by_response.begin(), by_response.end(), 0);
+  std::stable_sort(by_response.begin(), by_response.end(), [&](int a, int b) {
+    return frame.measurements[a].response > frame.measurements[b].response;
+  });
+
+  // --- update ---
+  t0 = Clock::now();
+  Status result = Status::kOk;
+  std::vector<int> used_meas;
+  for (int i : by_response)
+    if (assoc.slot[i] >= 0 && static_cast<int>(used_meas.size()) < settings_.max_update_landmarks)
+      used_meas.push_back(i);
+  std::vector<char> used_slot(numLandmarks(), 0);
+  if (!used_meas.empty()) {
+    std::vector<MeasurementBlock> blocks(used_meas.size());
+    for (std::size_t j = 0; j < used_meas.size(); ++j) {
+      const int i = used_meas[j], k = assoc.slot[i];
+      MeasurementBlock& b = blocks[j];
+      b.slot = k;
+      measurementJacobian(pose_, positions_[k], &b.H_pose, &b.H_landmark);
+      b.R = frame.measurements[i].Cz;
+      b.innovation = frame.measurements[i].z - measure(pose_, positions_[k]);
+    }
+    Eigen::VectorXd dx;
+    double nis = 0.0;
+    st = backend_->update(blocks, &dx, &nis);
+    if (st == Status::kOk) {
+      injectPose(&pose_, dx.head<kPoseDim>());
+      for (int k = 0; k < numLandmarks(); ++k) positions_[k] += dx.segment<3>(landmarkRow(k));
+      for (std::size_t j = 0; j < used_meas.size(); ++j) {
+        const int k = assoc.slot[used_meas[j]];
+        used_slot[k] = 1;
+        ++times_observed_[k];
+        last_seen_[k] = frame.stamp;
+        colours_[k] = frame.measurements[used_meas[j]].rgb;
+      }
+      rep.n_updated = static_cast<int>(used_meas.size());
+      rep.mean_nis = nis / rep.n_updated;
+    } else if (st == Status::kNotPositiveDefinite || st == Status::kNonFinite) {
+      rep.update_skipped = true;
+      result = Status::kNotPositiveDefinite;
+      // The landmarks were still associated: protect them from eviction.
+      for (int i : used_meas) used_slot[assoc.slot[i]] = 1;
+    } else {
+      rep.t_update_ms = msSince(t0);
+      return finish(st);
+    }
+  }
+  rep.t_update_ms = msSince(t0);
+
+  // --- removal ---
+  t0 = Clock::now();
+  std::vector<int> add_meas;
+  for (int i : by_response)
+    if (assoc.may_add[i] && static_cast<int>(add_meas.size()) < settings_.max_new_landmarks) add_meas.push_back(i);
+  const int K = numLandmarks();
+  const int free_slots = settings_.max_landmarks - K;
+  int n_add = std::min<int>(static_cast<int>(add_meas.size()), free_slots);
+  if (static_cast<int>(add_meas.size()) > free_slots) {
+    const int target = std::min<int>(
+        static_cast<int>(add_meas.size()),
+        static_cast<int>(std::ceil(settings_.full_pool_add_fraction * settings_.max_new_landmarks - 1e-9)));
+    int n_evict = std::max(0, target - free_slots);
+    std::vector<int> evictable;
+    for (int k = 0; k < K; ++k)
+      if (!used_slot[k]) evictable.push_back(k);
+    n_evict = std::min<int>(n_evict, static_cast<int>(evictable.size()));
+    if (n_evict > 0) {
+      std::partial_sort(evictable.begin(), evictable.begin() + n_evict, evictable.end(), [&](int a, int b) {
+        if (last_seen_[a] != last_seen_[b]) return last_seen_[a] < last_seen_[b];
+        if (times_observed_[a] != times_observed_[b]) return times_observed_[a] < times_observed_[b];
+        return ids_[a] < ids_[b];
+      });
+      std::vector<int> evict(evictable.begin(), evictable.begin() + n_evict);
+      std::sort(evict.begin(), evict.end());
+      st = backend_->removeLandmarks(evict);
+      if (st != Status::kOk) {
+        rep.t_removal_ms = msSince(t0);
+        return finish(st);
+      }
+      // Same single-pass compaction on the host arrays.
+      std::vector<char> drop(K, 0);
+      for (int k : evict) drop[k] = 1;
+      int dst = 0;
+      for (int k = 0; k < K; ++k) {
+        if (drop[k]) continue;
+        ids_[dst] = ids_[k];
+        positions_[dst] = positions_[k];
+        colours_[dst] = colours_[k];
+        times_observed_[dst] = times_observed_[k];
+        last_seen_[dst] = last_seen_[k];
+        ++dst;
+      }
+      ids_.resize(dst);
+      positions_.resize(dst);
+      colours_.resize(dst);
+      times_observed_.resize(dst);
+      last_seen_.resize(dst);
+      rep.n_removed = n_evict;
+    }
+    n_add = std::min<int>(static_cast<int>(add_meas.size()), settings_.max_landmarks - numLandmarks());
+  }
+  rep.t_removal_ms = msSince(t0);
+
+  // --- addition ---
+  t0 = Clock::now();
+  if (n_add > 0) {
+    std::vector<NewLandmarkBlock> blocks(n_add);
+    for (int j = 0; j < n_add; ++j) {
+      const int i = add_meas[j];
+      const StereoMeasurement& m = frame.measurements[i];
+      newLandmarkJacobian(pose_, m.z, &blocks[j].G_pose, &blocks[j].G_z);
+      blocks[j].Cz = m.Cz;
+      blocks[j].descriptor =
+          frame.descriptor_length > 0 ? &frame.descriptors[static_cast<std::size_t>(i) * frame.descriptor_length]
+                                      : nullptr;
+    }
+    st = backend_->addLandmarks(blocks);
+    if (st != Status::kOk) {
+      rep.t_addition_ms = msSince(t0);
+      return finish(st);
+    }
+    for (int j = 0; j < n_add; ++j) {
+      const StereoMeasurement& m = frame.measurements[add_meas[j]];
+      ids_.push_back(next_id_++);
+      positions_.push_back(initLandmark(pose_, m.z));
+      colours_.push_back(m.rgb);
+      times_observed_.push_back(1);
+      last_seen_.push_back(frame.stamp);
+    }
+    rep.n_added = n_add;
+  }
+  rep.t_addition_ms = msSince(t0);
+  return finish(result);
+}
+
+}  // namespace hapi_eskf
