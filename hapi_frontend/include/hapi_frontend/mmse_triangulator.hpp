@@ -10,6 +10,8 @@
 // sigma^2 I. Iterated EKF (= Gauss-Newton on prior + measurement):
 //   x_{i+1} = x0 + C0 J^T (J C0 J^T + R)^-1 (z - h(x_i) - J (x0 - x_i)).
 // Covariance from the final information: C = (C0^-1 + J^T R^-1 J)^-1.
+// The lateral prior spread depends on the depth; it is evaluated at the
+// midpoint depth first and once more at the converged depth (second pass).
 #pragma once
 
 #include "hapi_frontend/camera_model.hpp"
@@ -28,7 +30,12 @@ class MmseTriangulator {
  public:
   MmseTriangulator(const Eigen::Matrix3d& K_l, const Eigen::Matrix3d& K_r, const StereoRig& rig, double pixel_sigma,
                    double depth_prior_factor = 10.0, int iterations = 5);
+  // Both pixels with the constructor's pixel_sigma.
   MmseEstimate estimate(const Eigen::Vector2d& u_left, const Eigen::Vector2d& u_right) const;
+  // Per-observation noise [px, 1 sigma], e.g. scaled with the pyramid level
+  // the keypoint was detected on.
+  MmseEstimate estimate(const Eigen::Vector2d& u_left, const Eigen::Vector2d& u_right, double sigma_left,
+                        double sigma_right) const;
 
  private:
   Eigen::Matrix3d K_l_, K_r_, K_l_inv_;
