@@ -1,0 +1,164 @@
+#!/usr/bin/python3
+"""Prints the result of one pipeline run (scripts/run_pipeline.sh).
+
+    pipeline_summary.py REPORT.yaml [DIAGNOSTICS.bag] [--max-ate-fraction 0.02] [--max-map-rms 0.01]
+
+REPORT.yaml is what scripts/evaluate_run.py wrote (ATE after rigid
+alignment, map RMS to the true sphere, rates). DIAGNOSTICS.bag is /diagnostics
+recorded during the run: the nodelets publish per-window mean stage timings
+("time <stage> [ms]"), so the per-stage timing of the whole run is the mean of
+the windows weighted by the frames each window processed (the last windows,
+after the bag ended, processed nothing and must not count as zero-time frames).
+
+Exit status: 0 all metrics present and within bounds, 1 something missing (the
+run did not produce it: never guessed), 2 a metric outside its bound.
+"""
+import argparse
+import re
+import sys
+
+import yaml
+
+COUNTER_RE = re.compile(r"processed|updates|frames", re.IGNORECASE)
+TIME_RE = re.compile(r"^time\b.*\[ms\]$|\[ms\]$", re.IGNORECASE)
+
+
+def to_float(s):
+    try:
+        return float(s)
+    except (TypeError, ValueError):
+        return None
+
+
+def read_diagnostics(path):
+    """{status name: [(stamp, {key: value str})]} of our nodelets, in order."""
+    import rosbag  # only needed with a diagnostics bag
+    out = {}
+    with rosbag.Bag(path) as bag:
+        for _, msg, t in bag.read_messages(topics=["/diagnostics"]):
+            for st in msg.status:
+                name = st.name
+                if not re.search(r"hapi|eskf|frontend", name, re.IGNORECASE):
+                    continue
+                out.setdefault(name, []).append((t.to_sec(), {kv.key: kv.value for kv in st.values}))
+    return out
+
+
+def counter_key(samples):
+    """The cumulative frame counter of one status (monotonic integer key)."""
+    keys = [k for k in samples[-1][1] if COUNTER_RE.search(k) and "rate" not in k.lower()
+            and "per" not in k.lower() and to_float(samples[-1][1][k]) is not None]
+    for k in sorted(keys, key=lambda k: ("processed" not in k.lower(), k)):
+        vals = [to_float(s[1].get(k)) for s in samples]
+        if all(v is not None for v in vals) and all(b >= a for a, b in zip(vals, vals[1:])) and vals[-1] > 0:
+            return k
+    return None
+
+
+def stage_timings(diag):
+    """{status: {'frames': n, 'counter': key, 'stages': {key: (mean, max of window means)}}}."""
+    result = {}
+    for name, samples in diag.items():
+        ck = counter_key(samples)
+        stages = {}
+        prev = 0.0
+        weights = []
+        for _, vals in samples:
+            if ck is not None:
+                c = to_float(vals.get(ck))
+                weights.append(max(0.0, c - prev))
+                prev = c
+            else:
+                weights.append(1.0)
+        for key in samples[-1][1]:
+            if not TIME_RE.search(key):
+                continue
+            num = den = 0.0
+            peak = None
+            for w, (_, vals) in zip(weights, samples):
+                v = to_float(vals.get(key))
+                if v is None or w <= 0:
+                    continue
+                num += w * v
+                den += w
+                peak = v if peak is None else max(peak, v)
+            if den > 0:
+                stages[key] = (num / den, peak)
+        result[name] = {"counter": ck, "frames": prev if ck else len(samples), "stages": stages}
+    return result
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("report")
+    ap.add_argument("diagnostics", nargs="?")
+    ap.add_argument("--max-ate-fraction", type=float, default=0.02)
+    ap.add_argument("--max-map-rms", type=float, default=0.01)
+    a = ap.parse_args()
+
+    missing, failed = [], []
+    try:
+        with open(a.report) as f:
+            rep = yaml.safe_load(f) or {}
+    except OSError as e:
+        print(f"[summary] MISSING: no evaluation report ({e})")
+        return 1
+
+    print("================ HAPI pipeline result ================")
+    print(f"odometry messages     : {rep.get('odom_messages', 0)} "
+          f"(rate {rep.get('odom_rate_sim_hz', float('nan')):.2f} Hz bag time, "
+          f"{rep.get('odom_rate_wall_hz', float('nan')):.2f} Hz wall)")
+    print(f"ground-truth poses    : {rep.get('gt_messages', 0)}, matched {rep.get('poses_compared', 0)}")
+    if "ate_rmse_m" in rep:
+        frac = rep["ate_fraction_of_distance"]
+        ok = frac <= a.max_ate_fraction
+        print(f"ATE (rigid alignment) : RMSE {rep['ate_rmse_m'] * 100:.2f} cm, max {rep['ate_max_m'] * 100:.2f} cm "
+              f"over {rep['distance_travelled_m']:.2f} m travelled = {frac * 100:.2f} % "
+              f"(bound {a.max_ate_fraction * 100:.1f} %: {'PASS' if ok else 'FAIL'})")
+        if not ok:
+            failed.append("ATE")
+    else:
+        missing.append("ATE (no odometry matched the ground truth)")
+    if "map_rms_to_sphere_m" in rep:
+        ok = rep["map_rms_to_sphere_m"] <= a.max_map_rms
+        print(f"map error             : {rep['map_points']} points, RMS to the true sphere "
+              f"{rep['map_rms_to_sphere_m'] * 1000:.2f} mm, median |d| {rep['map_median_abs_to_sphere_m'] * 1000:.2f} mm "
+              f"(bound {a.max_map_rms * 1000:.0f} mm: {'PASS' if ok else 'FAIL'})")
+        if not ok:
+            failed.append("map error")
+    elif rep.get("map_points", 0) > 0:
+        missing.append("map error (globe geometry unknown)")
+    else:
+        missing.append("map error (no map received)")
+
+    print("per-stage timing (mean over the frames processed, wall clock):")
+    if a.diagnostics:
+        try:
+            timings = stage_timings(read_diagnostics(a.diagnostics))
+        except Exception as e:  # a truncated bag: say so, do not invent numbers
+            print(f"  cannot read {a.diagnostics}: {e}")
+            timings = {}
+    else:
+        timings = {}
+    if not timings:
+        missing.append("per-stage timing (no /diagnostics from the nodelets)")
+    for name, t in sorted(timings.items()):
+        print(f"  {name}  ({int(t['frames'])} {t['counter'] or 'windows'})")
+        if not t["stages"]:
+            print("    (no timing keys)")
+        for key, (mean, peak) in sorted(t["stages"].items()):
+            print(f"    {key:<34s} {mean:9.2f}   (worst window {peak:.2f})")
+    if not any(t["stages"] for t in timings.values()) and timings:
+        missing.append("per-stage timing (diagnostics carry no 'time ... [ms]' keys)")
+    print("=======================================================")
+    for m in missing:
+        print(f"[summary] MISSING: {m}")
+    for f_ in failed:
+        print(f"[summary] FAILED: {f_} outside its bound")
+    if missing:
+        return 1
+    return 2 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
