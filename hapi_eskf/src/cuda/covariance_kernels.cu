@@ -1,0 +1,285 @@
+// Own kernels of the update, predict and read-back paths (DESIGN.md "Filter").
+// All of them touch O(n) or O(m^2) elements; the O(n^2 m) work is cuBLAS's.
+#include "kernels.cuh"
+
+namespace hapi_eskf {
+namespace cuda {
+namespace {
+
+constexpr int kThreads = 256;
+
+// Lower triangle is authoritative: (i, j) above the diagonal is read mirrored.
+template <typename T>
+__device__ __forceinline__ T sym(const T* C, std::size_t ld, int i, int j) {
+  return i >= j ? C[i + static_cast<std::size_t>(j) * ld] : C[j + static_cast<std::size_t>(i) * ld];
+}
+
+__device__ __forceinline__ int landmarkRowDev(int slot) { return 12 + 3 * slot; }
+
+// One thread per (state row i, measurement j): reads the 9 columns of C that
+// H_j touches and writes 3 entries of P. Threads of a warp share j, so the H
+// loads are broadcasts and the C loads of the pose columns are coalesced.
+template <typename T>
+__global__ void gatherPHtKernel(const T* __restrict__ C, std::size_t ld, int n, const int* __restrict__ slots,
+                                const T* __restrict__ H, T* __restrict__ P, std::size_t ldP) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  const int j = blockIdx.y;
+  if (i >= n) return;
+  const int l = landmarkRowDev(slots[j]);
+  T v[9];
+#pragma unroll
+  for (int c = 0; c < 6; ++c) v[c] = sym(C, ld, i, c);
+#pragma unroll
+  for (int c = 0; c < 3; ++c) v[6 + c] = sym(C, ld, i, l + c);
+  const T* h = H + 27 * j;
+#pragma unroll
+  for (int r = 0; r < 3; ++r) {
+    T acc = 0;
+#pragma unroll
+    for (int c = 0; c < 6; ++c) acc += h[6 * r + c] * v[c];
+#pragma unroll
+    for (int c = 0; c < 3; ++c) acc += h[18 + 3 * r + c] * v[6 + c];
+    P[i + static_cast<std::size_t>(3 * j + r) * ldP] = acc;
+  }
+}
+
+// S(a, b) = H_a-row . P(:, b) using only the 9 non-zero columns of the row.
+template <typename T>
+__global__ void innovationCovKernel(const T* __restrict__ P, std::size_t ldP, const int* __restrict__ slots,
+                                    const T* __restrict__ H, const T* __restrict__ R, int m, T* __restrict__ S) {
+  const int dim = 3 * m;
+  const int a = blockIdx.y;  // row of S
+  const int b = blockIdx.x * blockDim.x + threadIdx.x;
+  if (b >= dim) return;
+  const int j = a / 3, r = a % 3;
+  const int l = landmarkRowDev(slots[j]);
+  const T* h = H + 27 * j;
+  const T* p = P + static_cast<std::size_t>(b) * ldP;
+  T acc = 0;
+#pragma unroll
+  for (int c = 0; c < 6; ++c) acc += h[6 * r + c] * p[c];
+#pragma unroll
+  for (int c = 0; c < 3; ++c) acc += h[18 + 3 * r + c] * p[l + c];
+  if (b / 3 == j) acc += R[9 * j + 3 * r + (b % 3)];
+  S[a + static_cast<std::size_t>(b) * dim] = acc;
+}
+
+template <typename T>
+__global__ void nonFiniteKernel(const T* __restrict__ x, std::size_t count, int* flag) {
+  const std::size_t i = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i < count && !isfinite(x[i])) *flag = 1;
+}
+
+// C_mp <- C_mp F^T: row i (>= 12) of the cross block is 12 values in the
+// lower triangle, C[i + c ld]; coalesced across the warp.
+template <typename T>
+__global__ void predictCrossKernel(T* __restrict__ C, std::size_t ld, int n, Mat12Param F) {
+  const int i = 12 + blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  double row[12];
+#pragma unroll
+  for (int c = 0; c < 12; ++c) row[c] = C[i + static_cast<std::size_t>(c) * ld];
+#pragma unroll
+  for (int c = 0; c < 12; ++c) {
+    double acc = 0;
+#pragma unroll
+    for (int d = 0; d < 12; ++d) acc += F.a[12 * c + d] * row[d];
+    C[i + static_cast<std::size_t>(c) * ld] = static_cast<T>(acc);
+  }
+}
+
+// C_pp <- F C_pp F^T + Q in one block of 144 threads (shared 12x12 tiles).
+template <typename T>
+__global__ void predictPoseKernel(T* __restrict__ C, std::size_t ld, Mat12Param F, Mat12Param Q) {
+  __shared__ double cpp[144], fc[144];
+  const int t = threadIdx.x;
+  const int r = t / 12, c = t % 12;
+  cpp[t] = sym(C, ld, r, c);
+  __syncthreads();
+  double acc = 0;
+  for (int k = 0; k < 12; ++k) acc += F.a[12 * r + k] * cpp[12 * k + c];
+  fc[t] = acc;  // (F C)(r, c)
+  __syncthreads();
+  acc = Q.a[t];
+  for (int k = 0; k < 12; ++k) acc += fc[12 * r + k] * F.a[12 * c + k];
+  if (r >= c) C[r + static_cast<std::size_t>(c) * ld] = static_cast<T>(acc);
+}
+
+template <typename T>
+__global__ void marginalsKernel(const T* __restrict__ C, std::size_t ld, const int* __restrict__ slots,
+                                double* __restrict__ out) {
+  const int s = blockIdx.x;
+  const int t = threadIdx.x;  // 81 threads
+  const int a = t % 9, b = t / 9;
+  const int l = landmarkRowDev(slots[s]);
+  const int ia = a < 6 ? a : l + a - 6;
+  const int ib = b < 6 ? b : l + b - 6;
+  out[81 * s + a + 9 * b] = static_cast<double>(sym(C, ld, ia, ib));
+}
+
+template <typename T>
+__global__ void landmarkBlocksKernel(const T* __restrict__ C, std::size_t ld, int K, double* __restrict__ out) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= K) return;
+  const int l = landmarkRowDev(k);
+#pragma unroll
+  for (int b = 0; b < 3; ++b)
+#pragma unroll
+    for (int a = 0; a < 3; ++a) out[9 * k + a + 3 * b] = static_cast<double>(sym(C, ld, l + a, l + b));
+}
+
+// New rows n_old + 3b + r, column j < n_old: G_b C_[dp dtheta], j.
+template <typename T>
+__global__ void addCrossKernel(T* __restrict__ C, std::size_t ld, int n_old, const T* __restrict__ G, int m) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= n_old) return;
+  double v[6];
+#pragma unroll
+  for (int c = 0; c < 6; ++c) v[c] = sym(C, ld, c, j);
+  T* col = C + static_cast<std::size_t>(j) * ld + n_old;
+  for (int b = 0; b < m; ++b) {
+    const T* g = G + 18 * b;
+#pragma unroll
+    for (int r = 0; r < 3; ++r) {
+      double acc = 0;
+#pragma unroll
+      for (int c = 0; c < 6; ++c) acc += g[6 * r + c] * v[c];
+      col[3 * b + r] = static_cast<T>(acc);
+    }
+  }
+}
+
+// New-new block (lower part): G_i C_66 G_j^T (+ G_z Cz G_z^T on the diagonal).
+template <typename T>
+__global__ void addNewNewKernel(T* __restrict__ C, std::size_t ld, int n_old, const T* __restrict__ G,
+                                const T* __restrict__ Nz, int m) {
+  __shared__ double c66[36];
+  if (threadIdx.x < 36) c66[threadIdx.x] = sym(C, ld, threadIdx.x % 6, threadIdx.x / 6);
+  __syncthreads();
+  const int a = blockIdx.y;  // new row
+  const int b = blockIdx.x * blockDim.x + threadIdx.x;  // new column
+  if (b > a || b >= 3 * m) return;
+  const int i = a / 3, ra = a % 3, j = b / 3, rb = b % 3;
+  const T* gi = G + 18 * i + 6 * ra;
+  const T* gj = G + 18 * j + 6 * rb;
+  double acc = 0;
+  for (int c = 0; c < 6; ++c) {
+    double t = 0;
+    for (int d = 0; d < 6; ++d) t += c66[c + 6 * d] * gj[d];
+    acc += gi[c] * t;
+  }
+  if (i == j) acc += Nz[9 * i + 3 * ra + rb];
+  C[n_old + a + static_cast<std::size_t>(n_old + b) * ld] = static_cast<T>(acc);
+}
+
+template <typename T>
+__global__ void compactStripKernel(T* __restrict__ C, std::size_t ld, const int* __restrict__ old_of_new, int n_new,
+                                   int r0, int a0, int w, T* __restrict__ tmp, std::size_t ldT, bool gather) {
+  const int jj = blockIdx.y;
+  const int j = a0 + jj;
+  const int row_begin = max(j, r0);
+  const int i = row_begin + blockIdx.x * blockDim.x + threadIdx.x;
+  if (jj >= w || i >= n_new) return;
+  T* t = tmp + i + static_cast<std::size_t>(jj) * ldT;
+  if (gather) {
+    *t = C[old_of_new[i] + static_cast<std::size_t>(old_of_new[j]) * ld];
+  } else {
+    C[i + static_cast<std::size_t>(j) * ld] = *t;
+  }
+}
+
+inline unsigned blocksFor(long long count) { return static_cast<unsigned>((count + kThreads - 1) / kThreads); }
+
+}  // namespace
+
+template <typename T>
+cudaError_t launchGatherPHt(const T* C, std::size_t ld, int n, const int* slots, const T* H, int m, T* P,
+                            std::size_t ldP, cudaStream_t stream) {
+  if (n <= 0 || m <= 0) return cudaSuccess;
+  gatherPHtKernel<T><<<dim3(blocksFor(n), m), kThreads, 0, stream>>>(C, ld, n, slots, H, P, ldP);
+  return cudaGetLastError();
+}
+
+template <typename T>
+cudaError_t launchInnovationCov(const T* P, std::size_t ldP, const int* slots, const T* H, const T* R, int m,
+                                T* S, cudaStream_t stream) {
+  if (m <= 0) return cudaSuccess;
+  innovationCovKernel<T><<<dim3(blocksFor(3 * m), 3 * m), kThreads, 0, stream>>>(P, ldP, slots, H, R, m, S);
+  return cudaGetLastError();
+}
+
+template <typename T>
+cudaError_t launchCountNonFinite(const T* x, std::size_t count, int* flag, cudaStream_t stream) {
+  if (count == 0) return cudaSuccess;
+  nonFiniteKernel<T><<<blocksFor(static_cast<long long>(count)), kThreads, 0, stream>>>(x, count, flag);
+  return cudaGetLastError();
+}
+
+template <typename T>
+cudaError_t launchPredict(T* C, std::size_t ld, int n, const Mat12Param& F, const Mat12Param& Q,
+                          cudaStream_t stream) {
+  // Cross rows first (they read only rows >= 12), then the pose block.
+  if (n > 12) {
+    predictCrossKernel<T><<<blocksFor(n - 12), kThreads, 0, stream>>>(C, ld, n, F);
+    const cudaError_t e = cudaGetLastError();
+    if (e != cudaSuccess) return e;
+  }
+  predictPoseKernel<T><<<1, 144, 0, stream>>>(C, ld, F, Q);
+  return cudaGetLastError();
+}
+
+template <typename T>
+cudaError_t launchMarginals(const T* C, std::size_t ld, const int* slots, int count, double* out,
+                            cudaStream_t stream) {
+  if (count <= 0) return cudaSuccess;
+  marginalsKernel<T><<<count, 81, 0, stream>>>(C, ld, slots, out);
+  return cudaGetLastError();
+}
+
+template <typename T>
+cudaError_t launchLandmarkBlocks(const T* C, std::size_t ld, int K, double* out, cudaStream_t stream) {
+  if (K <= 0) return cudaSuccess;
+  landmarkBlocksKernel<T><<<blocksFor(K), kThreads, 0, stream>>>(C, ld, K, out);
+  return cudaGetLastError();
+}
+
+template <typename T>
+cudaError_t launchAddLandmarks(T* C, std::size_t ld, int n_old, const T* G, const T* Nz, int m,
+                               cudaStream_t stream) {
+  if (m <= 0) return cudaSuccess;
+  // Both kernels read only the pose rows/columns 0..5 and write rows >= n_old.
+  addCrossKernel<T><<<blocksFor(n_old), kThreads, 0, stream>>>(C, ld, n_old, G, m);
+  cudaError_t e = cudaGetLastError();
+  if (e != cudaSuccess) return e;
+  addNewNewKernel<T><<<dim3(blocksFor(3 * m), 3 * m), kThreads, 0, stream>>>(C, ld, n_old, G, Nz, m);
+  return cudaGetLastError();
+}
+
+template <typename T>
+cudaError_t launchCompactStrip(T* C, std::size_t ld, const int* old_of_new, int n_new, int r0, int a, int w,
+                               T* tmp, std::size_t ldT, bool gather, cudaStream_t stream) {
+  const int rows = n_new - (a > r0 ? a : r0);
+  if (rows <= 0 || w <= 0) return cudaSuccess;
+  compactStripKernel<T><<<dim3(blocksFor(rows), w), kThreads, 0, stream>>>(C, ld, old_of_new, n_new, r0, a, w, tmp,
+                                                                            ldT, gather);
+  return cudaGetLastError();
+}
+
+#define HAPI_INSTANTIATE(T)                                                                                          \
+  template cudaError_t launchGatherPHt<T>(const T*, std::size_t, int, const int*, const T*, int, T*, std::size_t,     \
+                                          cudaStream_t);                                                             \
+  template cudaError_t launchInnovationCov<T>(const T*, std::size_t, const int*, const T*, const T*, int, T*,         \
+                                              cudaStream_t);                                                         \
+  template cudaError_t launchCountNonFinite<T>(const T*, std::size_t, int*, cudaStream_t);                         \
+  template cudaError_t launchPredict<T>(T*, std::size_t, int, const Mat12Param&, const Mat12Param&, cudaStream_t);    \
+  template cudaError_t launchMarginals<T>(const T*, std::size_t, const int*, int, double*, cudaStream_t);             \
+  template cudaError_t launchLandmarkBlocks<T>(const T*, std::size_t, int, double*, cudaStream_t);                    \
+  template cudaError_t launchAddLandmarks<T>(T*, std::size_t, int, const T*, const T*, int, cudaStream_t);            \
+  template cudaError_t launchCompactStrip<T>(T*, std::size_t, const int*, int, int, int, int, T*, std::size_t, bool,  \
+                                             cudaStream_t);
+HAPI_INSTANTIATE(double)
+HAPI_INSTANTIATE(float)
+#undef HAPI_INSTANTIATE
+
+}  // namespace cuda
+}  // namespace hapi_eskf

@@ -1,0 +1,464 @@
+// CUDA implementation of CovarianceBackend (DESIGN.md "Filter"): C lives on the
+// device for the whole run (capacity-sized, column-major, ld = 12 + 3 capacity,
+// lower triangle authoritative); only dx (length n), the 3m-vector y and small
+// blocks cross the bus inside the filter loop. The O(n^2 m) step is cuBLAS
+// (SYRK or panelled GEMM), the factorisation cuSOLVER, the O(n m) gathers and
+// all bookkeeping our own kernels (kernels.cuh).
+#include "hapi_eskf/cuda/cuda_backend.hpp"
+
+#include "blas_traits.hpp"
+#include "cuda_check.hpp"
+#include "device_buffer.hpp"
+#include "input_checks.hpp"
+#include "kernels.cuh"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace hapi_eskf {
+namespace cuda {
+namespace {
+
+Mat12Param toParam(const Mat12& M) {
+  Mat12Param p;
+  for (int r = 0; r < 12; ++r)
+    for (int c = 0; c < 12; ++c) p.a[12 * r + c] = M(r, c);
+  return p;
+}
+
+// HAPI_ESKF_CUDA_RANK_UPDATE=syrk|gemm selects the C <- C - A A^T kernel
+// (default: panelled GEMM, measured faster than DSYRK on H100, see
+// docs/BENCHMARKS.md); the bench switches it to compare both.
+RankUpdate rankUpdateFromEnv() {
+  const char* e = std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE");
+  if (e != nullptr && std::string(e) == "syrk") return RankUpdate::kSyrk;
+  return RankUpdate::kPanelGemm;
+}
+
+template <typename T>
+class CudaBackend final : public CovarianceBackend {
+ public:
+  CudaBackend(int capacity, int descriptor_length, int device)
+      : cap_(capacity), D_(descriptor_length), device_(device), ld_(static_cast<std::size_t>(stateDim(capacity))) {}
+
+  ~CudaBackend() override {
+    cudaSetDevice(device_);
+    if (solver_ != nullptr) cusolverDnDestroy(solver_);
+    if (blas_ != nullptr) cublasDestroy(blas_);
+    if (stream_ != nullptr) cudaStreamDestroy(stream_);
+  }
+
+  // Allocates everything the loop needs up front (C, a workspace of W columns,
+  // descriptor pool); false and *why on failure.
+  bool init(std::string* why) {
+    if (failed(cudaSetDevice(device_), "cudaSetDevice", why)) return false;
+    if (failed(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "cudaStreamCreate", why)) return false;
+    if (failed(cublasCreate(&blas_), "cublasCreate", why)) return false;
+    if (failed(cublasSetStream(blas_, stream_), "cublasSetStream", why)) return false;
+    if (failed(cusolverDnCreate(&solver_), "cusolverDnCreate", why)) return false;
+    if (failed(cusolverDnSetStream(solver_, stream_), "cusolverDnSetStream", why)) return false;
+    if (failed(C_.ensure(ld_ * ld_), "cudaMalloc(C)", why)) return false;
+    // Zeroed once so the scratch upper triangle never holds NaN patterns.
+    if (failed(cudaMemsetAsync(C_.get(), 0, C_.bytes(), stream_), "cudaMemset(C)", why)) return false;
+    work_cols_ = std::max(3, std::min(600, 3 * cap_));
+    if (failed(work_.ensure(ld_ * static_cast<std::size_t>(work_cols_)), "cudaMalloc(work)", why)) return false;
+    const std::size_t pool = static_cast<std::size_t>(std::max(cap_, 1)) * std::max(D_, 1);
+    if (failed(desc_.ensure(pool), "cudaMalloc(descriptors)", why)) return false;
+    if (failed(desc_tmp_.ensure(pool), "cudaMalloc(descriptors)", why)) return false;
+    if (failed(dx_.ensure(ld_), "cudaMalloc(dx)", why)) return false;
+    if (failed(cudaStreamSynchronize(stream_), "cudaStreamSynchronize", why)) return false;
+    rank_ = rankUpdateFromEnv();
+    return true;
+  }
+
+  const char* name() const override { return sizeof(T) == 8 ? "cuda-fp64" : "cuda-fp32"; }
+  int capacity() const override { return cap_; }
+  int numLandmarks() const override { return K_; }
+  int descriptorLength() const override { return D_; }
+  std::size_t memoryBytes() const override {
+    return C_.bytes() + work_.bytes() + S_.bytes() + y_.bytes() + dx_.bytes() + potrf_work_.bytes() + H_.bytes() +
+           R_.bytes() + slots_.bytes() + ints_.bytes() + desc_.bytes() + desc_tmp_.bytes() + queries_.bytes() +
+           small_.bytes();
+  }
+
+  Status reset(const Mat12& C_pose) override {
+    const Status s = checkPoseCovariance(C_pose);
+    if (s != Status::kOk) return s;
+    HAPI_CUDA_TRY(cudaSetDevice(device_));
+    std::vector<T> h(144);
+    for (int i = 0; i < 144; ++i) h[i] = static_cast<T>(C_pose.data()[i]);  // column-major
+    HAPI_CUDA_TRY(cudaMemcpy2DAsync(C_.get(), ld_ * sizeof(T), h.data(), 12 * sizeof(T), 12 * sizeof(T), 12,
+                                    cudaMemcpyHostToDevice, stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    K_ = 0;
+    return Status::kOk;
+  }
+
+  Status predict(const Mat12& F, const Mat12& Q) override {
+    if (!F.allFinite() || !Q.allFinite()) return Status::kNonFinite;
+    HAPI_CUDA_TRY(cudaSetDevice(device_));
+    HAPI_CUDA_TRY(launchPredict<T>(C_.get(), ld_, n(), toParam(F), toParam(Q), stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    return Status::kOk;
+  }
+
+  Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
+    if (out == nullptr) return Status::kInvalidArgument;
+    const Status s = checkSlotRange(slots, K_);
+    if (s != Status::kOk) return s;
+    out->resize(slots.size());
+    if (slots.empty()) return Status::kOk;
+    HAPI_CUDA_TRY(cudaSetDevice(device_));
+    const int cnt = static_cast<int>(slots.size());
+    HAPI_CUDA_TRY(slots_.ensure(slots.size()));
+    HAPI_CUDA_TRY(small_.ensure(81 * slots.size()));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(slots_.get(), slots.data(), slots.size() * sizeof(int), cudaMemcpyHostToDevice,
+                                  stream_));
+    HAPI_CUDA_TRY(launchMarginals<T>(C_.get(), ld_, slots_.get(), cnt, small_.get(), stream_));
+    std::vector<double> h(81 * slots.size());
+    HAPI_CUDA_TRY(cudaMemcpyAsync(h.data(), small_.get(), h.size() * sizeof(double), cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    for (int i = 0; i < cnt; ++i) std::memcpy((*out)[i].data(), h.data() + 81 * i, 81 * sizeof(double));
+    return Status::kOk;
+  }
+
+  Status update(const std::vector<MeasurementBlock>& blocks, Eigen::VectorXd* dx, double* nis) override {
+    const Status s = checkUpdate(blocks, dx, K_);
+    if (s != Status::kOk) return s;
+    HAPI_CUDA_TRY(cudaSetDevice(device_));
+    const int m = static_cast<int>(blocks.size());
+    const int dim = 3 * m;
+    const int nn = n();
+
+    // Pack the blocks: 27 H values, 9 R values, 3 innovations each.
+    std::vector<T> hH(27 * static_cast<std::size_t>(m)), hR(9 * static_cast<std::size_t>(m)), hz(dim);
+    std::vector<int> hslots(m);
+    for (int j = 0; j < m; ++j) {
+      const MeasurementBlock& b = blocks[j];
+      hslots[j] = b.slot;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 6; ++c) hH[27 * j + 6 * r + c] = static_cast<T>(b.H_pose(r, c));
+        for (int c = 0; c < 3; ++c) {
+          hH[27 * j + 18 + 3 * r + c] = static_cast<T>(b.H_landmark(r, c));
+          hR[9 * j + 3 * r + c] = static_cast<T>(b.R(r, c));
+        }
+        hz[3 * j + r] = static_cast<T>(b.innovation(r));
+      }
+    }
+    HAPI_CUDA_TRY(ensureWork(dim));
+    HAPI_CUDA_TRY(H_.ensure(hH.size()));
+    HAPI_CUDA_TRY(R_.ensure(hR.size()));
+    HAPI_CUDA_TRY(slots_.ensure(m));
+    HAPI_CUDA_TRY(S_.ensure(static_cast<std::size_t>(dim) * dim));
+    HAPI_CUDA_TRY(y_.ensure(dim));
+    HAPI_CUDA_TRY(ints_.ensure(2));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(H_.get(), hH.data(), hH.size() * sizeof(T), cudaMemcpyHostToDevice, stream_));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(R_.get(), hR.data(), hR.size() * sizeof(T), cudaMemcpyHostToDevice, stream_));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(slots_.get(), hslots.data(), m * sizeof(int), cudaMemcpyHostToDevice, stream_));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(y_.get(), hz.data(), dim * sizeof(T), cudaMemcpyHostToDevice, stream_));
+
+    // 1. P = C H^T by gather; 2. S = H P + R; Cholesky of S (lower).
+    T* P = work_.get();
+    const int ldP = static_cast<int>(ld_);
+    HAPI_CUDA_TRY(launchGatherPHt<T>(C_.get(), ld_, nn, slots_.get(), H_.get(), m, P, ld_, stream_));
+    HAPI_CUDA_TRY(launchInnovationCov<T>(P, ld_, slots_.get(), H_.get(), R_.get(), m, S_.get(), stream_));
+    // As the reference: a non-finite S is kNonFinite, a failed or numerically
+    // singular factor (min L_ii <= 1e-12 sqrt(max S_ii)) kNotPositiveDefinite.
+    HAPI_CUDA_TRY(cudaMemsetAsync(ints_.get(), 0, 2 * sizeof(int), stream_));
+    HAPI_CUDA_TRY(launchCountNonFinite<T>(S_.get(), static_cast<std::size_t>(dim) * dim, ints_.get() + 1, stream_));
+    std::vector<T> diagS(dim), diagL(dim);
+    HAPI_CUDA_TRY(cudaMemcpy2DAsync(diagS.data(), sizeof(T), S_.get(), (dim + 1) * sizeof(T), sizeof(T), dim,
+                                    cudaMemcpyDeviceToHost, stream_));
+    int lwork = 0;
+    HAPI_CUDA_TRY(Blas<T>::potrfBufferSize(solver_, dim, S_.get(), dim, &lwork));
+    HAPI_CUDA_TRY(potrf_work_.ensure(static_cast<std::size_t>(std::max(lwork, 1))));
+    HAPI_CUDA_TRY(Blas<T>::potrf(solver_, dim, S_.get(), dim, potrf_work_.get(), lwork, ints_.get()));
+    int info[2] = {0, 0};
+    HAPI_CUDA_TRY(cudaMemcpyAsync(info, ints_.get(), 2 * sizeof(int), cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(cudaMemcpy2DAsync(diagL.data(), sizeof(T), S_.get(), (dim + 1) * sizeof(T), sizeof(T), dim,
+                                    cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    if (info[1] != 0) return Status::kNonFinite;         // C not touched yet
+    if (info[0] > 0) return Status::kNotPositiveDefinite;
+    if (info[0] < 0) {
+      last_error_ = "potrf: invalid argument " + std::to_string(-info[0]);
+      return Status::kBackendError;
+    }
+    {
+      double max_s = 1e-300, min_l = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < dim; ++i) {
+        max_s = std::max(max_s, static_cast<double>(diagS[i]));
+        min_l = std::min(min_l, static_cast<double>(diagL[i]));
+      }
+      if (!(min_l > 1e-12 * std::sqrt(max_s))) return Status::kNotPositiveDefinite;
+    }
+
+    // 3. A = P L^-T (in place), y = L^-1 z, dx = A y.
+    HAPI_CUDA_TRY(Blas<T>::trsmRightLowerT(blas_, nn, dim, S_.get(), dim, P, ldP));
+    HAPI_CUDA_TRY(Blas<T>::trsvLower(blas_, dim, S_.get(), dim, y_.get()));
+    HAPI_CUDA_TRY(Blas<T>::gemv(blas_, nn, dim, P, ldP, y_.get(), dx_.get()));
+    std::vector<T> hy(dim), hdx(nn);
+    HAPI_CUDA_TRY(cudaMemcpyAsync(hy.data(), y_.get(), dim * sizeof(T), cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(hdx.data(), dx_.get(), nn * sizeof(T), cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    double y2 = 0;
+    for (T v : hy) y2 += static_cast<double>(v) * static_cast<double>(v);
+    Eigen::VectorXd dxd(nn);
+    for (int i = 0; i < nn; ++i) dxd(i) = static_cast<double>(hdx[i]);
+    // A poisoned C (or an overflow in FP32) shows up here: refuse before C changes.
+    if (!std::isfinite(y2) || !dxd.allFinite()) return Status::kNonFinite;
+
+    // 4. C <- C - A A^T (lower triangle only).
+    HAPI_CUDA_TRY(rankUpdate<T>(blas_, rank_, nn, dim, P, ldP, C_.get(), ld_, defaultPanel(nn)));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    *dx = std::move(dxd);
+    if (nis != nullptr) *nis = y2;
+    return Status::kOk;
+  }
+
+  Status addLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
+    if (blocks.empty()) return Status::kOk;
+    const Status s = checkAdd(blocks, K_, cap_, D_);
+    if (s != Status::kOk) return s;
+    HAPI_CUDA_TRY(cudaSetDevice(device_));
+    const int m = static_cast<int>(blocks.size());
+    std::vector<T> hG(18 * static_cast<std::size_t>(m)), hN(9 * static_cast<std::size_t>(m));
+    std::vector<uint8_t> hd(static_cast<std::size_t>(m) * D_);
+    for (int j = 0; j < m; ++j) {
+      const NewLandmarkBlock& b = blocks[j];
+      const Mat3 Nz = b.G_z * b.Cz * b.G_z.transpose();
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 6; ++c) hG[18 * j + 6 * r + c] = static_cast<T>(b.G_pose(r, c));
+        for (int c = 0; c < 3; ++c) hN[9 * j + 3 * r + c] = static_cast<T>(Nz(r, c));
+      }
+      if (D_ > 0) std::memcpy(hd.data() + static_cast<std::size_t>(j) * D_, b.descriptor, D_);
+    }
+    HAPI_CUDA_TRY(H_.ensure(hG.size()));
+    HAPI_CUDA_TRY(R_.ensure(hN.size()));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(H_.get(), hG.data(), hG.size() * sizeof(T), cudaMemcpyHostToDevice, stream_));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(R_.get(), hN.data(), hN.size() * sizeof(T), cudaMemcpyHostToDevice, stream_));
+    if (!hd.empty()) {
+      HAPI_CUDA_TRY(cudaMemcpyAsync(desc_.get() + static_cast<std::size_t>(K_) * D_, hd.data(), hd.size(),
+                                    cudaMemcpyHostToDevice, stream_));
+    }
+    HAPI_CUDA_TRY(launchAddLandmarks<T>(C_.get(), ld_, n(), H_.get(), R_.get(), m, stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    K_ += m;
+    return Status::kOk;
+  }
+
+  // Single compaction pass (DESIGN.md "Removal"). Every kept element moves to
+  // (new_i, new_j) <= (old_i, old_j), i.e. to a lower or equal column. Target
+  // columns are processed in strips [a, a + W) in increasing order: a strip
+  // reads only columns >= a (never written by earlier strips) into the
+  // workspace, then writes its own columns, so the in-place pass is race-free
+  // with O(n) extra memory and no per-landmark shifting.
+  Status removeLandmarks(const std::vector<int>& slots) override {
+    if (slots.empty()) return Status::kOk;
+    const Status s = checkDistinctSlots(slots, K_);
+    if (s != Status::kOk) return s;
+    HAPI_CUDA_TRY(cudaSetDevice(device_));
+    std::vector<char> removed(K_, 0);
+    for (int sl : slots) removed[sl] = 1;
+    const int K_new = K_ - static_cast<int>(slots.size());
+    const int n_new = stateDim(K_new);
+    std::vector<int> old_of_new;
+    std::vector<int> keep;
+    old_of_new.reserve(n_new);
+    keep.reserve(K_new);
+    for (int i = 0; i < kPoseDim; ++i) old_of_new.push_back(i);
+    for (int k = 0; k < K_; ++k) {
+      if (removed[k]) continue;
+      keep.push_back(k);
+      for (int r = 0; r < 3; ++r) old_of_new.push_back(landmarkRow(k) + r);
+    }
+    const int r0 = landmarkRow(*std::min_element(slots.begin(), slots.end()));
+    HAPI_CUDA_TRY(ints_.ensure(std::max<std::size_t>(old_of_new.size() + keep.size(), 1)));
+    int* d_map = ints_.get();
+    int* d_keep = ints_.get() + old_of_new.size();
+    HAPI_CUDA_TRY(cudaMemcpyAsync(d_map, old_of_new.data(), old_of_new.size() * sizeof(int), cudaMemcpyHostToDevice,
+                                  stream_));
+    if (!keep.empty()) {
+      HAPI_CUDA_TRY(cudaMemcpyAsync(d_keep, keep.data(), keep.size() * sizeof(int), cudaMemcpyHostToDevice, stream_));
+    }
+    if (r0 < n_new) {
+      for (int a = 0; a < n_new; a += work_cols_) {
+        const int w = std::min(work_cols_, n_new - a);
+        HAPI_CUDA_TRY(launchCompactStrip<T>(C_.get(), ld_, d_map, n_new, r0, a, w, work_.get(), ld_, true, stream_));
+        HAPI_CUDA_TRY(launchCompactStrip<T>(C_.get(), ld_, d_map, n_new, r0, a, w, work_.get(), ld_, false, stream_));
+      }
+    }
+    HAPI_CUDA_TRY(launchGatherDescriptors(desc_.get(), d_keep, K_new, D_, desc_tmp_.get(), stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    desc_.swap(desc_tmp_);
+    K_ = K_new;
+    return Status::kOk;
+  }
+
+  Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const override {
+    if (out == nullptr || n_query < 0 || (n_query > 0 && queries == nullptr)) return Status::kInvalidArgument;
+    out->assign(static_cast<std::size_t>(n_query), DescriptorMatch{});
+    if (n_query == 0 || D_ == 0 || K_ == 0) return Status::kOk;
+    HAPI_CUDA_TRY(cudaSetDevice(device_));
+    const std::size_t qbytes = static_cast<std::size_t>(n_query) * D_;
+    HAPI_CUDA_TRY(queries_.ensure(qbytes));
+    HAPI_CUDA_TRY(ints_.ensure(4 * static_cast<std::size_t>(n_query)));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(queries_.get(), queries, qbytes, cudaMemcpyHostToDevice, stream_));
+    int* d = ints_.get();
+    HAPI_CUDA_TRY(launchHammingTop2(desc_.get(), K_, queries_.get(), n_query, D_, d, d + n_query, d + 2 * n_query,
+                                    d + 3 * n_query, stream_));
+    std::vector<int> h(4 * static_cast<std::size_t>(n_query));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(h.data(), d, h.size() * sizeof(int), cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    for (int q = 0; q < n_query; ++q) {
+      DescriptorMatch& o = (*out)[q];
+      o.best_slot = h[q];
+      o.best_distance = h[n_query + q];
+      o.second_slot = h[2 * n_query + q];
+      o.second_distance = h[3 * n_query + q];
+    }
+    return Status::kOk;
+  }
+
+  Mat12 poseCovariance() const override {
+    Mat12 out = Mat12::Constant(std::numeric_limits<double>::quiet_NaN());
+    std::vector<T> h(144);
+    if (cudaSetDevice(device_) != cudaSuccess ||
+        cudaMemcpy2DAsync(h.data(), 12 * sizeof(T), C_.get(), ld_ * sizeof(T), 12 * sizeof(T), 12,
+                          cudaMemcpyDeviceToHost, stream_) != cudaSuccess ||
+        cudaStreamSynchronize(stream_) != cudaSuccess) {
+      return out;
+    }
+    for (int c = 0; c < 12; ++c)
+      for (int r = c; r < 12; ++r) out(r, c) = out(c, r) = static_cast<double>(h[r + 12 * c]);
+    return out;
+  }
+
+  std::vector<Mat3> landmarkCovariances() const override {
+    std::vector<Mat3> out(K_, Mat3::Constant(std::numeric_limits<double>::quiet_NaN()));
+    if (K_ == 0) return out;
+    std::vector<double> h(9 * static_cast<std::size_t>(K_));
+    if (cudaSetDevice(device_) != cudaSuccess || small_.ensure(h.size()) != cudaSuccess ||
+        launchLandmarkBlocks<T>(C_.get(), ld_, K_, small_.get(), stream_) != cudaSuccess ||
+        cudaMemcpyAsync(h.data(), small_.get(), h.size() * sizeof(double), cudaMemcpyDeviceToHost, stream_) !=
+            cudaSuccess ||
+        cudaStreamSynchronize(stream_) != cudaSuccess) {
+      return out;
+    }
+    for (int k = 0; k < K_; ++k) std::memcpy(out[k].data(), h.data() + 9 * k, 9 * sizeof(double));
+    return out;
+  }
+
+  Eigen::MatrixXd denseCovariance() const override {
+    const int nn = n();
+    Eigen::MatrixXd out = Eigen::MatrixXd::Constant(nn, nn, std::numeric_limits<double>::quiet_NaN());
+    std::vector<T> h(static_cast<std::size_t>(nn) * nn);
+    if (cudaSetDevice(device_) != cudaSuccess ||
+        cudaMemcpy2DAsync(h.data(), nn * sizeof(T), C_.get(), ld_ * sizeof(T), nn * sizeof(T), nn,
+                          cudaMemcpyDeviceToHost, stream_) != cudaSuccess ||
+        cudaStreamSynchronize(stream_) != cudaSuccess) {
+      return out;
+    }
+    for (int c = 0; c < nn; ++c)
+      for (int r = c; r < nn; ++r) out(r, c) = out(c, r) = static_cast<double>(h[r + static_cast<std::size_t>(nn) * c]);
+    return out;
+  }
+
+  std::vector<uint8_t> descriptors() const override {
+    std::vector<uint8_t> h(static_cast<std::size_t>(K_) * D_);
+    if (h.empty()) return h;
+    if (cudaSetDevice(device_) != cudaSuccess ||
+        cudaMemcpyAsync(h.data(), desc_.get(), h.size(), cudaMemcpyDeviceToHost, stream_) != cudaSuccess ||
+        cudaStreamSynchronize(stream_) != cudaSuccess) {
+      h.clear();
+    }
+    return h;
+  }
+
+ private:
+  int n() const { return stateDim(K_); }
+
+  // The workspace holds P / A (n x 3m) during an update and one strip of the
+  // removal pass; it grows when an update has more than work_cols_ / 3 blocks.
+  cudaError_t ensureWork(int cols) {
+    if (cols <= work_cols_) return cudaSuccess;
+    const cudaError_t e = work_.ensure(ld_ * static_cast<std::size_t>(cols));
+    if (e == cudaSuccess) work_cols_ = cols;
+    return e;
+  }
+
+  const int cap_, D_, device_;
+  const std::size_t ld_;
+  int K_ = 0;
+  int work_cols_ = 0;
+  RankUpdate rank_ = RankUpdate::kPanelGemm;
+  cudaStream_t stream_ = nullptr;
+  cublasHandle_t blas_ = nullptr;
+  cusolverDnHandle_t solver_ = nullptr;
+  DeviceBuffer<T> C_, work_, S_, y_, dx_, potrf_work_, H_, R_;
+  DeviceBuffer<uint8_t> desc_, desc_tmp_;
+  // Scratch of const read-back / association calls.
+  mutable DeviceBuffer<int> slots_, ints_;
+  mutable DeviceBuffer<uint8_t> queries_;
+  mutable DeviceBuffer<double> small_;
+  mutable std::string last_error_;
+};
+
+}  // namespace
+
+bool deviceAvailable(int device, std::string* info) {
+  std::string dummy;
+  std::string* out = info != nullptr ? info : &dummy;
+  int count = 0;
+  const cudaError_t e = cudaGetDeviceCount(&count);
+  if (e != cudaSuccess) {
+    *out = std::string("no CUDA device: ") + cudaGetErrorString(e);
+    cudaGetLastError();  // clear the sticky-free error so later calls start clean
+    return false;
+  }
+  if (device < 0 || device >= count) {
+    *out = "CUDA device " + std::to_string(device) + " requested, " + std::to_string(count) + " present";
+    return false;
+  }
+  cudaDeviceProp p{};
+  if (cudaGetDeviceProperties(&p, device) != cudaSuccess) {
+    *out = "cudaGetDeviceProperties failed";
+    return false;
+  }
+  *out = std::string(p.name) + ", " + std::to_string(p.totalGlobalMem >> 20) + " MiB, sm_" +
+         std::to_string(p.major) + std::to_string(p.minor);
+  return true;
+}
+
+std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, Precision precision,
+                                                   int device, std::string* error) {
+  std::string dummy;
+  std::string* err = error != nullptr ? error : &dummy;
+  if (capacity < 0 || descriptor_length < 0) {
+    *err = "CUDA backend: capacity and descriptor length must be >= 0";
+    return nullptr;
+  }
+  std::string info;
+  if (!deviceAvailable(device, &info)) {
+    *err = info;
+    return nullptr;
+  }
+  std::string why;
+  if (precision == Precision::kFp32) {
+    auto b = std::make_unique<CudaBackend<float>>(capacity, descriptor_length, device);
+    if (b->init(&why)) return b;
+  } else {
+    auto b = std::make_unique<CudaBackend<double>>(capacity, descriptor_length, device);
+    if (b->init(&why)) return b;
+  }
+  *err = "CUDA backend (capacity " + std::to_string(capacity) + ") on " + info + ": " + why;
+  return nullptr;
+}
+
+}  // namespace cuda
+}  // namespace hapi_eskf
