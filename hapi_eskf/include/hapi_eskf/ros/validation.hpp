@@ -11,10 +11,10 @@ namespace ros_glue {
 
 enum class Reject : int {
   kOk = 0,
-  kNonFinite,          // NaN/Inf position or covariance
+  kNonFinite,          // NaN/Inf position, covariance or response
   kBadCovariance,      // non-symmetric or not positive definite
   kDescriptorSize,     // descriptors.size() != N * descriptor_length
-  kDescriptorLength,   // descriptor_length 0 or != the pool's length
+  kDescriptorLength,   // descriptor_length 0, > kMaxDescriptorLength or != the pool's length
   kDescriptorType,     // descriptor_type differs from the pool's type
   kTooMany,            // N > max_measurements_per_msg
   kFrameId,            // empty frame_id or not the expected camera frame
@@ -22,6 +22,10 @@ enum class Reject : int {
   kStampBackwards,     // header.stamp earlier than the last accepted one
   kCount
 };
+
+// Longest binary descriptor we accept (AKAZE full M-LDB is 61 bytes, ORB 32):
+// guards the pool against a corrupt first message fixing an absurd length.
+constexpr std::uint32_t kMaxDescriptorLength = 512;
 
 constexpr int kRejectCount = static_cast<int>(Reject::kCount);
 const char* rejectName(Reject r);
@@ -41,7 +45,37 @@ struct ValidationResult {
 };
 
 /// Checks everything except stamp ordering (which needs state; see the nodelet).
+/// Cost O(N): it runs in the ROS callback thread, the filter never sees a
+/// message that failed it.
 ValidationResult validateLandmarks(const hapi_msgs::StereoLandmarks& msg, const ValidationConfig& cfg);
+
+/// Stamp ordering of accepted messages. A stamp that is not newer than the last
+/// accepted one is either a reordered/duplicated message (rejected: feeding it
+/// would predict backwards or use a measurement twice) or, when it lies more
+/// than `jump_threshold` seconds in the past, a time jump (bag loop, simulator
+/// restart): the filter must be reset and the new timeline accepted.
+enum class StampCheck { kAccept, kReject, kReset };
+class StampGuard {
+ public:
+  explicit StampGuard(double jump_threshold) : jump_(jump_threshold) {}
+  StampCheck check(double stamp) {
+    if (!has_last_ || stamp > last_) return accept(stamp, StampCheck::kAccept);
+    if (last_ - stamp > jump_) return accept(stamp, StampCheck::kReset);
+    return StampCheck::kReject;
+  }
+  void clear() { has_last_ = false; }
+  double last() const { return last_; }
+
+ private:
+  StampCheck accept(double stamp, StampCheck c) {
+    last_ = stamp;
+    has_last_ = true;
+    return c;
+  }
+  double jump_;
+  double last_ = 0.0;
+  bool has_last_ = false;
+};
 
 /// True when the 3x3 row-major matrix is finite, symmetric and positive definite.
 bool isSymmetricPositiveDefinite3(const double* c, double rel_tol = 1e-9);

@@ -1,0 +1,61 @@
+// Message <-> filter conversions of the nodelet. Pure functions (no node
+// handle) so the covariance mapping and the cloud layout are unit-tested.
+#pragma once
+
+#include "hapi_eskf/types.hpp"
+
+#include <geometry_msgs/PoseWithCovariance.h>
+#include <geometry_msgs/TwistWithCovariance.h>
+#include <hapi_msgs/StereoLandmarks.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <vector>
+
+namespace hapi_eskf {
+namespace ros_glue {
+
+// hapi_msgs/StereoLandmarks -> StereoFrame (the message must have passed
+// validateLandmarks; nothing is re-checked here).
+StereoFrame toStereoFrame(const hapi_msgs::StereoLandmarks& msg);
+
+// Pose of the camera in the published world frame: T_map_cam = T_map_world *
+// T_world_cam, where `world` is the filter's world (the first camera) and
+// T_map_world the fixed anchoring transform (identity unless ~base_frame).
+//
+// Covariance (ROS order [x y z rot_x rot_y rot_z], rotations about the fixed
+// axes of header.frame_id): the filter's error state is [dp (world), dtheta
+// (LOCAL, R = R_hat Exp(dtheta)), dv, dw (camera)] (DESIGN.md "Filter").
+// R_hat Exp(dtheta) = Exp(R_hat dtheta) R_hat, so the global rotation error
+// is R_map_cam dtheta and the position error R_map_world dp:
+//   Sigma_pose = J C[0:6,0:6] J^T,  J = blockdiag(R_map_world, R_map_cam).
+geometry_msgs::PoseWithCovariance toPoseWithCovariance(const PoseState& pose, const Mat12& C,
+                                                       const Eigen::Isometry3d& T_map_world);
+
+// Twist in the child (camera) frame, which is the frame the filter keeps v and
+// w in, so its covariance is C[6:12, 6:12] unchanged ([vx vy vz wx wy wz]).
+geometry_msgs::TwistWithCovariance toTwistWithCovariance(const PoseState& pose, const Mat12& C);
+
+// Scalar uncertainty of a landmark for the map: sqrt of the LARGEST eigenvalue
+// of its 3x3 marginal covariance, i.e. the 1-sigma half-axis of the worst
+// direction of its uncertainty ellipsoid [m] (conservative: a point is never
+// shown as better known than its weakest direction).
+double landmarkSigma(const Mat3& covariance);
+
+// One map point as published and exported.
+struct MapPoint {
+  Vec3 position = Vec3::Zero();  // in the published world frame [m]
+  std::array<uint8_t, 3> rgb{{0, 0, 0}};
+  float sigma = 0.f;             // landmarkSigma [m]
+  uint32_t id = 0;               // landmark id (lower 32 bits)
+};
+std::vector<MapPoint> toMapPoints(const std::vector<LandmarkInfo>& landmarks, const Eigen::Isometry3d& T_map_world);
+
+// sensor_msgs/PointCloud2 with fields x y z rgb sigma (FLOAT32; rgb packed
+// 0x00RRGGBB into the float's bits as PCL/rviz expect) and id (UINT32).
+// Unorganised (height 1), little-endian, dense.
+sensor_msgs::PointCloud2 toPointCloud2(const std::vector<MapPoint>& points);
+
+}  // namespace ros_glue
+}  // namespace hapi_eskf

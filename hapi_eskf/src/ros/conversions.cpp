@@ -1,0 +1,118 @@
+#include "hapi_eskf/ros/conversions.hpp"
+
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace hapi_eskf {
+namespace ros_glue {
+
+StereoFrame toStereoFrame(const hapi_msgs::StereoLandmarks& msg) {
+  StereoFrame f;
+  f.stamp = msg.header.stamp.toSec();
+  f.descriptor_length = static_cast<int>(msg.descriptor_length);
+  f.descriptors = msg.descriptors;
+  f.measurements.resize(msg.landmarks.size());
+  for (std::size_t i = 0; i < msg.landmarks.size(); ++i) {
+    const auto& l = msg.landmarks[i];
+    StereoMeasurement& m = f.measurements[i];
+    m.z = Vec3(l.position.x, l.position.y, l.position.z);
+    m.Cz = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(l.position_covariance.data());
+    m.frontend_id = l.id;
+    m.response = l.response;
+    m.rgb = {{l.r, l.g, l.b}};
+  }
+  return f;
+}
+
+geometry_msgs::PoseWithCovariance toPoseWithCovariance(const PoseState& pose, const Mat12& C,
+                                                       const Eigen::Isometry3d& T_map_world) {
+  const Mat3 R_mw = T_map_world.linear();
+  const Eigen::Quaterniond q_mc = Eigen::Quaterniond(R_mw) * pose.q.normalized();
+  const Vec3 p_m = T_map_world * pose.p;
+  geometry_msgs::PoseWithCovariance out;
+  out.pose.position.x = p_m.x();
+  out.pose.position.y = p_m.y();
+  out.pose.position.z = p_m.z();
+  out.pose.orientation.w = q_mc.w();
+  out.pose.orientation.x = q_mc.x();
+  out.pose.orientation.y = q_mc.y();
+  out.pose.orientation.z = q_mc.z();
+  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
+  J.block<3, 3>(0, 0) = R_mw;
+  J.block<3, 3>(3, 3) = q_mc.toRotationMatrix();
+  const Eigen::Matrix<double, 6, 6> S = J * C.block<6, 6>(kIdxP, kIdxP) * J.transpose();
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) out.covariance[6 * r + c] = 0.5 * (S(r, c) + S(c, r));
+  return out;
+}
+
+geometry_msgs::TwistWithCovariance toTwistWithCovariance(const PoseState& pose, const Mat12& C) {
+  geometry_msgs::TwistWithCovariance out;
+  out.twist.linear.x = pose.v.x();
+  out.twist.linear.y = pose.v.y();
+  out.twist.linear.z = pose.v.z();
+  out.twist.angular.x = pose.w.x();
+  out.twist.angular.y = pose.w.y();
+  out.twist.angular.z = pose.w.z();
+  const Eigen::Matrix<double, 6, 6> S = C.block<6, 6>(kIdxV, kIdxV);
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) out.covariance[6 * r + c] = 0.5 * (S(r, c) + S(c, r));
+  return out;
+}
+
+double landmarkSigma(const Mat3& covariance) {
+  const Mat3 S = 0.5 * (covariance + covariance.transpose());
+  if (!S.allFinite()) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(S, Eigen::EigenvaluesOnly);
+  return std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff()));
+}
+
+std::vector<MapPoint> toMapPoints(const std::vector<LandmarkInfo>& landmarks, const Eigen::Isometry3d& T_map_world) {
+  std::vector<MapPoint> out;
+  out.reserve(landmarks.size());
+  for (const LandmarkInfo& l : landmarks) {
+    MapPoint p;
+    p.position = T_map_world * l.position;
+    p.rgb = l.rgb;
+    // A rigid change of frame rotates the ellipsoid, its eigenvalues stay.
+    p.sigma = static_cast<float>(landmarkSigma(l.covariance));
+    p.id = static_cast<uint32_t>(l.id & 0xffffffffu);
+    out.push_back(p);
+  }
+  return out;
+}
+
+sensor_msgs::PointCloud2 toPointCloud2(const std::vector<MapPoint>& points) {
+  sensor_msgs::PointCloud2 cloud;
+  sensor_msgs::PointCloud2Modifier mod(cloud);
+  mod.setPointCloud2Fields(6, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32,
+                           "z", 1, sensor_msgs::PointField::FLOAT32, "rgb", 1, sensor_msgs::PointField::FLOAT32,
+                           "sigma", 1, sensor_msgs::PointField::FLOAT32, "id", 1, sensor_msgs::PointField::UINT32);
+  mod.resize(points.size());
+  cloud.height = 1;
+  cloud.width = static_cast<uint32_t>(points.size());
+  cloud.is_dense = true;
+  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"), rgb(cloud, "rgb"),
+      sigma(cloud, "sigma");
+  sensor_msgs::PointCloud2Iterator<uint32_t> id(cloud, "id");
+  for (const MapPoint& p : points) {
+    *x = static_cast<float>(p.position.x());
+    *y = static_cast<float>(p.position.y());
+    *z = static_cast<float>(p.position.z());
+    const uint32_t packed = (uint32_t(p.rgb[0]) << 16) | (uint32_t(p.rgb[1]) << 8) | uint32_t(p.rgb[2]);
+    float packed_f;
+    std::memcpy(&packed_f, &packed, sizeof(float));
+    *rgb = packed_f;
+    *sigma = p.sigma;
+    *id = p.id;
+    ++x, ++y, ++z, ++rgb, ++sigma, ++id;
+  }
+  return cloud;
+}
+
+}  // namespace ros_glue
+}  // namespace hapi_eskf

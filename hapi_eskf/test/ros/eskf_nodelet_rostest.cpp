@@ -1,0 +1,352 @@
+// rostest of hapi_eskf/EskfNodelet (loaded by eskf_nodelet.test as /eskf in a
+// manager). The tests run in order on one nodelet instance:
+//  1. synthetic frames -> odom, TF, map, path grow; pose follows the truth;
+//  2. fuzz: malformed messages interleaved with good ones -> node alive, each
+//     rejection counted in /diagnostics, no output (pose unchanged) for them;
+//  3. ~save_map / ~save_trajectory write valid PLY / TUM files;
+//  4. a stamp jumping backwards (bag loop) resets filter and path;
+//  5. ~reset empties the map.
+#include "synthetic_frames.hpp"
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+namespace {
+
+const std::string kFrame = "stereo_left_optical_frame";
+
+struct Observer {
+  std::mutex mu;
+  std::vector<nav_msgs::Odometry> odoms;
+  std::vector<std::size_t> path_sizes;
+  sensor_msgs::PointCloud2 map;
+  int maps = 0;
+  std::map<std::string, std::string> diag;  // latest EskfNodelet status values
+  int diags = 0;
+
+  void onOdom(const nav_msgs::Odometry::ConstPtr& m) {
+    std::lock_guard<std::mutex> lk(mu);
+    odoms.push_back(*m);
+  }
+  void onPath(const nav_msgs::Path::ConstPtr& m) {
+    std::lock_guard<std::mutex> lk(mu);
+    path_sizes.push_back(m->poses.size());
+  }
+  void onMap(const sensor_msgs::PointCloud2::ConstPtr& m) {
+    std::lock_guard<std::mutex> lk(mu);
+    map = *m;
+    ++maps;
+  }
+  void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+    std::lock_guard<std::mutex> lk(mu);
+    for (const auto& s : m->status) {
+      if (s.name.find("eskf") == std::string::npos) continue;
+      for (const auto& kv : s.values) diag[kv.key] = kv.value;
+      ++diags;
+    }
+  }
+  std::size_t numOdom() {
+    std::lock_guard<std::mutex> lk(mu);
+    return odoms.size();
+  }
+  double diagValue(const std::string& key) {
+    std::lock_guard<std::mutex> lk(mu);
+    auto it = diag.find(key);
+    return it == diag.end() ? -1.0 : std::stod(it->second);
+  }
+};
+
+Observer* obs = nullptr;
+ros::Publisher* pub = nullptr;
+hapi_eskf_test::SyntheticScene* scene = nullptr;
+ros::Time t0;
+double t_scene = 0.0;  // scene time of the last good frame
+
+template <typename Pred>
+bool waitFor(Pred p, double timeout_s) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    if (p()) return true;
+    ros::WallDuration(0.02).sleep();
+  }
+  return p();
+}
+
+// Publishes the next good frame (20 Hz scene time) and paces at `period`.
+void publishGood(double period = 0.05) {
+  t_scene += 0.05;
+  pub->publish(scene->frame(t_scene, t0 + ros::Duration(t_scene), kFrame));
+  ros::WallDuration(period).sleep();
+}
+
+Eigen::Vector3d odomPosition(const nav_msgs::Odometry& o) {
+  return {o.pose.pose.position.x, o.pose.pose.position.y, o.pose.pose.position.z};
+}
+
+// Truth of the camera position in the filter's world (= first camera frame).
+Eigen::Vector3d truthInFirstCamera(double t, double t_first) {
+  return (scene->pose(t_first).inverse() * scene->pose(t)).translation();
+}
+
+}  // namespace
+
+TEST(EskfNodelet, ProcessesSyntheticFrames) {
+  ASSERT_TRUE(waitFor([] { return pub->getNumSubscribers() > 0; }, 30.0)) << "nodelet not subscribed";
+  const double t_first = t_scene + 0.05;
+  for (int i = 0; i < 60; ++i) publishGood();
+  ASSERT_TRUE(waitFor([] { return obs->numOdom() >= 30; }, 20.0)) << "odom count " << obs->numOdom();
+
+  // Odometry: REP-105 frames, child = camera, finite covariance.
+  nav_msgs::Odometry last;
+  {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    last = obs->odoms.back();
+  }
+  EXPECT_EQ(last.header.frame_id, "map");
+  EXPECT_EQ(last.child_frame_id, kFrame);
+  EXPECT_GT(last.pose.covariance[0], 0.0);
+  EXPECT_GT(last.pose.covariance[35], 0.0);
+  // The estimate follows the truth (world = first camera; 3 m of travel).
+  const double t_last = (last.header.stamp - t0).toSec();
+  const Eigen::Vector3d err = odomPosition(last) - truthInFirstCamera(t_last, t_first);
+  EXPECT_LT(err.norm(), 0.05) << "estimate " << odomPosition(last).transpose() << " truth "
+                              << truthInFirstCamera(t_last, t_first).transpose();
+
+  // TF map -> camera.
+  tf2_ros::Buffer buffer;
+  tf2_ros::TransformListener listener(buffer);
+  std::string tf_err;
+  EXPECT_TRUE(buffer.canTransform("map", kFrame, ros::Time(0), ros::Duration(3.0), &tf_err)) << tf_err;
+
+  // Map non-empty with the documented fields; path grows.
+  ASSERT_TRUE(waitFor([] {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    return obs->maps > 0 && obs->map.width > 20;
+  }, 5.0));
+  std::lock_guard<std::mutex> lk(obs->mu);
+  EXPECT_EQ(obs->map.header.frame_id, "map");
+  ASSERT_EQ(obs->map.fields.size(), 6u);
+  EXPECT_EQ(obs->map.fields[4].name, "sigma");
+  ASSERT_GE(obs->path_sizes.size(), 10u);
+  EXPECT_GT(obs->path_sizes.back(), obs->path_sizes.front());
+  EXPECT_GE(obs->path_sizes.back(), 30u);
+}
+
+TEST(EskfNodelet, MalformedMessagesAreRejectedAndCounted) {
+  publishGood(0.2);
+  ASSERT_TRUE(waitFor([] { return obs->diagValue("frames_processed") > 0; }, 5.0));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::pair<std::string, hapi_msgs::StereoLandmarks>> bad;
+  auto make = [&](double dt) { return scene->frame(t_scene + dt, t0 + ros::Duration(t_scene + dt), kFrame); };
+  {
+    auto m = make(0.01);
+    m.landmarks.at(3).position.x = nan;
+    bad.emplace_back("rejected_non_finite", m);
+  }
+  {
+    auto m = make(0.01);
+    m.landmarks.at(0).position_covariance = {1e-4, 0, 0, 0, -1e-4, 0, 0, 0, 1e-4};
+    bad.emplace_back("rejected_bad_covariance", m);
+  }
+  {
+    auto m = make(0.01);
+    m.descriptors.resize(m.descriptors.size() - 5);
+    bad.emplace_back("rejected_descriptor_size", m);
+  }
+  {
+    auto m = make(0.01);
+    m.descriptor_length = 61;
+    m.descriptors.assign(m.landmarks.size() * 61, 7);
+    bad.emplace_back("rejected_descriptor_length", m);
+  }
+  {
+    auto m = make(0.01);
+    m.descriptor_type = hapi_msgs::StereoLandmarks::DESCRIPTOR_AKAZE;
+    bad.emplace_back("rejected_descriptor_type", m);
+  }
+  {
+    auto m = make(0.01);
+    const auto one = m.landmarks.at(0);
+    m.landmarks.assign(5000, one);  // huge count (> max_measurements_per_msg)
+    m.descriptors.assign(5000 * 32, 1);
+    bad.emplace_back("rejected_too_many_measurements", m);
+  }
+  {
+    auto m = make(0.01);
+    m.header.frame_id = "some_other_frame";
+    bad.emplace_back("rejected_frame_id", m);
+  }
+  {
+    auto m = make(0.01);
+    m.landmarks.at(2).id = m.landmarks.at(1).id;
+    bad.emplace_back("rejected_duplicate_id", m);
+  }
+  {
+    auto m = make(-0.2);  // older than the last accepted frame, but no bag loop
+    bad.emplace_back("rejected_stamp_backwards", m);
+  }
+  std::map<std::string, double> before;
+  for (const auto& b : bad) before[b.first] = std::max(0.0, obs->diagValue(b.first));
+
+  // Bad-only burst: no output at all, i.e. the state is untouched.
+  const std::size_t n0 = obs->numOdom();
+  nav_msgs::Odometry ref;
+  {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    ref = obs->odoms.back();
+  }
+  for (const auto& b : bad) {
+    pub->publish(b.second);
+    ros::WallDuration(0.03).sleep();
+  }
+  ros::WallDuration(0.5).sleep();
+  EXPECT_EQ(obs->numOdom(), n0) << "a malformed message produced an output";
+
+  // Interleaved: every good frame still produces exactly one output.
+  for (int rep = 0; rep < 2; ++rep) {
+    for (const auto& b : bad) {
+      publishGood(0.08);
+      auto m = b.second;
+      m.header.stamp = t0 + ros::Duration(t_scene + (b.first == "rejected_stamp_backwards" ? -0.2 : 0.01));
+      pub->publish(m);
+      ros::WallDuration(0.03).sleep();
+    }
+  }
+  publishGood(0.1);
+  // At most one output per good frame (a slow machine may drop a good frame:
+  // newest wins), and the node kept processing.
+  const std::size_t goods = 2 * bad.size() + 1;
+  EXPECT_TRUE(waitFor([&] { return obs->numOdom() >= n0 + goods / 2; }, 5.0)) << obs->numOdom();
+  ros::WallDuration(0.5).sleep();
+  EXPECT_LE(obs->numOdom(), n0 + goods) << "malformed messages produced outputs";
+  {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    // The first output after the bad burst continues the trajectory smoothly.
+    const double step = (odomPosition(obs->odoms[n0]) - odomPosition(ref)).norm();
+    EXPECT_LT(step, 0.1);
+  }
+  // Every reason counted 3 times (burst + 2 interleaved rounds).
+  const bool counted = waitFor([&] {
+    for (const auto& b : bad)
+      if (obs->diagValue(b.first) < before[b.first] + 3) return false;
+    return true;
+  }, 5.0);
+  EXPECT_TRUE(counted);
+  for (const auto& b : bad) EXPECT_GE(obs->diagValue(b.first), before[b.first] + 3) << b.first;
+}
+
+TEST(EskfNodelet, SaveServicesWritePlyAndTum) {
+  std_srvs::Trigger srv;
+  ASSERT_TRUE(ros::service::waitForService("/eskf/save_map", 5000));
+  ASSERT_TRUE(ros::service::call("/eskf/save_map", srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  {
+    std::ifstream f(srv.response.message);
+    ASSERT_TRUE(f.good()) << srv.response.message;
+    std::string line;
+    int vertices = -1, rows = 0;
+    while (std::getline(f, line) && line != "end_header")
+      if (line.rfind("element vertex ", 0) == 0) vertices = std::stoi(line.substr(15));
+    while (std::getline(f, line)) {
+      std::istringstream ss(line);
+      double v[7];
+      for (double& x : v) ASSERT_TRUE(ss >> x) << line;
+      EXPECT_GT(v[2], 0.0) << "landmarks lie in front of the first camera";
+      EXPECT_GT(v[6], 0.0);
+      ++rows;
+    }
+    EXPECT_GT(vertices, 20);
+    EXPECT_EQ(rows, vertices);
+  }
+  ASSERT_TRUE(ros::service::call("/eskf/save_trajectory", srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  std::ifstream f(srv.response.message);
+  ASSERT_TRUE(f.good());
+  std::string line;
+  int rows = 0;
+  double prev_t = -1;
+  while (std::getline(f, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    double v[8];
+    for (double& x : v) ASSERT_TRUE(ss >> x) << line;
+    EXPECT_GT(v[0], prev_t);
+    prev_t = v[0];
+    EXPECT_NEAR(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7], 1.0, 1e-6);
+    ++rows;
+  }
+  EXPECT_GE(static_cast<std::size_t>(rows), obs->numOdom() * 8 / 10);  // drops allowed, no losses in the file
+}
+
+TEST(EskfNodelet, TimeJumpBackwardsResetsFilterAndPath) {
+  const double jumps0 = std::max(0.0, obs->diagValue("time_jumps"));
+  const double resets0 = std::max(0.0, obs->diagValue("resets"));
+  // Bag loop: scene time continues, stamps restart 100 s earlier.
+  t0 -= ros::Duration(100.0);
+  const double t_first = t_scene + 0.05;
+  const std::size_t n0 = obs->numOdom();
+  for (int i = 0; i < 20; ++i) publishGood(0.06);
+  ASSERT_TRUE(waitFor([&] { return obs->numOdom() >= n0 + 10; }, 10.0));
+  EXPECT_TRUE(waitFor([&] { return obs->diagValue("time_jumps") >= jumps0 + 1; }, 5.0));
+  EXPECT_GE(obs->diagValue("resets"), resets0 + 1);
+  std::lock_guard<std::mutex> lk(obs->mu);
+  // Path restarted: at most the 20 frames of the new timeline.
+  EXPECT_LE(obs->path_sizes.back(), 20u);
+  // World re-anchored at the first camera after the jump.
+  const auto& o = obs->odoms.back();
+  const Eigen::Vector3d truth = truthInFirstCamera((o.header.stamp - t0).toSec(), t_first);
+  EXPECT_LT((odomPosition(o) - truth).norm(), 0.05);
+}
+
+TEST(EskfNodelet, ResetServiceClearsMap) {
+  std_srvs::Trigger srv;
+  ASSERT_TRUE(ros::service::call("/eskf/reset", srv));
+  EXPECT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_TRUE(waitFor([] {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    return obs->map.width == 0;
+  }, 3.0));
+  const std::size_t n0 = obs->numOdom();
+  for (int i = 0; i < 5; ++i) publishGood(0.06);
+  EXPECT_TRUE(waitFor([&] { return obs->numOdom() >= n0 + 3; }, 5.0));
+  std::lock_guard<std::mutex> lk(obs->mu);
+  EXPECT_LT(odomPosition(obs->odoms.back()).norm(), 0.3);  // restarted near the origin
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_eskf_nodelet");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  Observer o;
+  obs = &o;
+  ros::Subscriber s1 = nh.subscribe("/eskf/odom", 1000, &Observer::onOdom, &o);
+  ros::Subscriber s2 = nh.subscribe("/eskf/path", 100, &Observer::onPath, &o);
+  ros::Subscriber s3 = nh.subscribe("/eskf/map", 10, &Observer::onMap, &o);
+  ros::Subscriber s4 = nh.subscribe("/diagnostics", 100, &Observer::onDiag, &o);
+  ros::Publisher p = nh.advertise<hapi_msgs::StereoLandmarks>("/eskf/landmarks", 100);
+  pub = &p;
+  hapi_eskf_test::SyntheticScene sc;
+  scene = &sc;
+  t0 = ros::Time::now();
+  // Give our subscriptions time to connect before anything is published.
+  waitFor([&] { return s1.getNumPublishers() > 0 && s4.getNumPublishers() > 0; }, 30.0);
+  const int rc = RUN_ALL_TESTS();
+  spinner.stop();
+  return rc;
+}
