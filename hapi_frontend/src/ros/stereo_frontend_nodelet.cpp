@@ -1,0 +1,243 @@
+#include "stereo_frontend_nodelet.hpp"
+
+#include "image_input.hpp"
+#include "landmarks_message.hpp"
+
+#include <hapi_msgs/StereoLandmarks.h>
+#include <pluginlib/class_list_macros.hpp>
+
+#include <boost/make_shared.hpp>
+
+#include <cmath>
+#include <sstream>
+
+namespace hapi_frontend {
+namespace {
+
+// Fields of CameraInfo that define the calibration (header and stamp excluded).
+bool sameCalibration(const sensor_msgs::CameraInfo& a, const sensor_msgs::CameraInfo& b) {
+  return a.width == b.width && a.height == b.height && a.distortion_model == b.distortion_model && a.D == b.D &&
+         a.K == b.K && a.R == b.R && a.P == b.P && a.binning_x == b.binning_x && a.binning_y == b.binning_y &&
+         a.roi.x_offset == b.roi.x_offset && a.roi.y_offset == b.roi.y_offset && a.roi.width == b.roi.width &&
+         a.roi.height == b.roi.height;
+}
+
+std::string sizeText(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
+
+}  // namespace
+
+StereoFrontendNodelet::~StereoFrontendNodelet() {
+  {
+    std::lock_guard<std::mutex> lock(mailbox_mutex_);
+    stop_ = true;
+  }
+  mailbox_cv_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+void StereoFrontendNodelet::onInit() {
+  ros::NodeHandle& nh = getMTNodeHandle();
+  ros::NodeHandle& pnh = getMTPrivateNodeHandle();
+
+  // Diagnostics first, so that a configuration error is visible on
+  // /diagnostics and not only in the log.
+  updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), getPrivateNodeHandle(), getName());
+  updater_->setHardwareID("stereo_frontend");
+  updater_->add("stereo front end", &diag_, &FrontendDiagnostics::produce);
+  // Wall timer + force_update: diagnostics keep flowing when simulated time
+  // pauses or jumps backwards (bag loops).
+  diag_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(std::max(0.1, updater_->getPeriod())),
+                                                [this](const ros::WallTimerEvent&) { updater_->force_update(); });
+
+  const ParamLoadResult loaded = loadFrontendParams(pnh, &params_);
+  for (const auto& w : loaded.warnings) NODELET_WARN("%s", w.c_str());
+  if (!loaded.ok()) {
+    std::string all;
+    for (const auto& e : loaded.errors) {
+      NODELET_FATAL("invalid parameter: %s", e.c_str());
+      all += (all.empty() ? "" : "; ") + e;
+    }
+    NODELET_FATAL("StereoFrontendNodelet refuses to run with an invalid configuration (see config/frontend.yaml)");
+    diag_.setFatal("invalid parameters: " + all);
+    return;
+  }
+  try {
+    pipeline_ = std::make_unique<StereoPipeline>(params_.pipeline);
+  } catch (const std::exception& ex) {
+    NODELET_FATAL("cannot create the stereo pipeline: %s", ex.what());
+    diag_.setFatal(std::string("pipeline creation failed: ") + ex.what());
+    return;
+  }
+
+  pub_ = pnh.advertise<hapi_msgs::StereoLandmarks>("landmarks", 10);
+  worker_ = std::thread(&StereoFrontendNodelet::workerLoop, this);
+
+  const uint32_t q = static_cast<uint32_t>(params_.queue_size);
+  it_ = std::make_unique<image_transport::ImageTransport>(nh);
+  // The hint reads ~image_transport (already validated), so "compressed"
+  // subscribes to <image>/compressed through the plugin.
+  const image_transport::TransportHints hints(params_.image_transport, ros::TransportHints(), pnh);
+  left_sub_.subscribe(*it_, "left/image_raw", q, hints);
+  right_sub_.subscribe(*it_, "right/image_raw", q, hints);
+  left_info_sub_.subscribe(nh, "left/camera_info", q);
+  right_info_sub_.subscribe(nh, "right/camera_info", q);
+  if (params_.approximate_sync) {
+    // No max-interval limit in the policy: pairs beyond the slop reach the
+    // callback and are rejected there, so they are counted and logged.
+    approx_sync_ = std::make_unique<message_filters::Synchronizer<ApproxPolicy>>(
+        ApproxPolicy(q), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
+    approx_sync_->registerCallback(&StereoFrontendNodelet::onSynced, this);
+  } else {
+    exact_sync_ = std::make_unique<message_filters::Synchronizer<ExactPolicy>>(
+        ExactPolicy(q), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
+    exact_sync_->registerCallback(&StereoFrontendNodelet::onSynced, this);
+    exact_sync_->registerDropCallback(&StereoFrontendNodelet::onExactDrop, this);
+  }
+
+  NODELET_INFO(
+      "stereo front end: detector %s%s, N=%d, %s sync (queue %d), transport '%s'; inputs %s %s %s %s -> %s",
+      params_.pipeline.detector.c_str(), params_.pipeline.use_gpu ? " (GPU requested)" : "",
+      params_.pipeline.max_landmarks, params_.approximate_sync ? "approximate" : "exact", params_.queue_size,
+      params_.image_transport.c_str(), left_sub_.getTopic().c_str(), left_info_sub_.getTopic().c_str(),
+      right_sub_.getTopic().c_str(), right_info_sub_.getTopic().c_str(), pub_.getTopic().c_str());
+}
+
+void StereoFrontendNodelet::reject(const std::string& reason, const std::string& detail) {
+  diag_.rejected(reason, detail);
+  NODELET_ERROR_THROTTLE(2.0, "rejected stereo frame [%s]: %s", reason.c_str(), detail.c_str());
+}
+
+void StereoFrontendNodelet::onExactDrop(const sensor_msgs::ImageConstPtr&, const sensor_msgs::CameraInfoConstPtr&,
+                                        const sensor_msgs::ImageConstPtr&, const sensor_msgs::CameraInfoConstPtr&) {
+  // Exact sync found no partner with the same stamp (unsynchronised cameras,
+  // lost message): the incomplete set is discarded.
+  diag_.dropped("unpaired");
+  NODELET_WARN_THROTTLE(5.0, "dropping messages without an exactly time-matched stereo partner "
+                             "(cameras not hardware-synchronised? try ~approximate_sync: true)");
+}
+
+void StereoFrontendNodelet::onSynced(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
+                                     const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri) {
+  const ros::Time stamp = l->header.stamp;
+  if (params_.approximate_sync) {
+    const double d_lr = std::fabs((l->header.stamp - r->header.stamp).toSec());
+    const double d_li = std::fabs((l->header.stamp - li->header.stamp).toSec());
+    const double d_ri = std::fabs((r->header.stamp - ri->header.stamp).toSec());
+    const double worst = std::max(d_lr, std::max(d_li, d_ri));
+    if (worst > params_.approx_slop) {
+      std::ostringstream os;
+      os << "stamps differ by " << worst * 1e3 << " ms > approx_slop " << params_.approx_slop * 1e3 << " ms";
+      reject("unsynchronised", os.str());
+      return;
+    }
+  }
+  {
+    std::lock_guard<std::mutex> lock(stamp_mutex_);
+    if (!last_stamp_.isZero() && stamp <= last_stamp_) {
+      const double back = (last_stamp_ - stamp).toSec();
+      if (back > params_.max_backwards_jump) {
+        // Bag loop or simulator restart: the front end has no temporal state,
+        // so it restarts cleanly; the back end sees the jump in the stamps.
+        diag_.timeReset();
+        NODELET_WARN("image stamps jumped back by %.3f s: time reset, continuing", back);
+      } else {
+        std::ostringstream os;
+        os << "stamp " << stamp << " not after the previous " << last_stamp_;
+        reject("stamp_not_increasing", os.str());
+        return;
+      }
+    }
+    last_stamp_ = stamp;
+  }
+  {
+    std::lock_guard<std::mutex> lock(mailbox_mutex_);
+    if (mailbox_) diag_.dropped("busy");  // the worker is behind: newest frame wins
+    mailbox_.reset(new Frame{l, r, li, ri});
+  }
+  mailbox_cv_.notify_one();
+}
+
+void StereoFrontendNodelet::workerLoop() {
+  for (;;) {
+    std::unique_ptr<Frame> frame;
+    {
+      std::unique_lock<std::mutex> lock(mailbox_mutex_);
+      mailbox_cv_.wait(lock, [this] { return stop_ || mailbox_; });
+      if (stop_) return;
+      frame = std::move(mailbox_);
+    }
+    try {
+      processFrame(*frame);
+    } catch (const std::exception& ex) {
+      // Last line of defence: a bug in the core must not take the manager
+      // (and with it the back end) down.
+      reject("internal_error", ex.what());
+    }
+  }
+}
+
+bool StereoFrontendNodelet::updateCalibration(const Info& left, const Info& right) {
+  if (calib_ok_ && sameCalibration(left, calib_left_) && sameCalibration(right, calib_right_)) return true;
+  calib_ok_ = false;
+  CameraCalib cl, cr;
+  if (const InputError e = toCalib(left, &cl)) {
+    reject(e.reason, "left camera_info: " + e.detail);
+    return false;
+  }
+  if (const InputError e = toCalib(right, &cr)) {
+    reject(e.reason, "right camera_info: " + e.detail);
+    return false;
+  }
+  const std::string why = pipeline_->setCalibration(cl, cr);
+  if (!why.empty()) {
+    reject("invalid_calibration", why);
+    return false;
+  }
+  calib_left_ = left;
+  calib_right_ = right;
+  calib_ok_ = true;
+  const StereoRig& rig = pipeline_->rig();
+  NODELET_INFO("stereo calibration (%s, %ux%u): baseline %.4f m, t_lr = [%.4f %.4f %.4f]",
+               left.distortion_model.c_str(), left.width, left.height, rig.t_lr.norm(), rig.t_lr.x(), rig.t_lr.y(),
+               rig.t_lr.z());
+  return true;
+}
+
+void StereoFrontendNodelet::processFrame(const Frame& f) {
+  GreyImage left, right;
+  if (const InputError e = toGrey(f.left, params_.mono16_bits, &left)) return reject(e.reason, "left: " + e.detail);
+  if (const InputError e = toGrey(f.right, params_.mono16_bits, &right)) return reject(e.reason, "right: " + e.detail);
+  if (left.gray.size() != right.gray.size())
+    return reject("size_mismatch", "left " + sizeText(left.gray) + " vs right " + sizeText(right.gray));
+  if (static_cast<int>(f.left_info->width) != left.gray.cols || static_cast<int>(f.left_info->height) != left.gray.rows ||
+      static_cast<int>(f.right_info->width) != right.gray.cols ||
+      static_cast<int>(f.right_info->height) != right.gray.rows) {
+    std::ostringstream os;
+    os << "images " << sizeText(left.gray) << " but camera_info " << f.left_info->width << "x" << f.left_info->height
+       << " / " << f.right_info->width << "x" << f.right_info->height;
+    return reject("calibration_size_mismatch", os.str());
+  }
+  std_msgs::Header header = f.left->header;
+  if (header.frame_id.empty()) header.frame_id = f.left_info->header.frame_id;
+  if (header.frame_id.empty()) return reject("missing_frame_id", "left image and camera_info have no frame_id");
+  if (!updateCalibration(*f.left_info, *f.right_info)) return;
+
+  StereoFrameResult result;
+  const std::string why = pipeline_->process(left.gray, right.gray, left.colour, &result);
+  if (!why.empty()) return reject("core_rejected", why);
+  if (params_.pipeline.use_gpu && !result.used_gpu && !warned_no_gpu_) {
+    warned_no_gpu_ = true;
+    NODELET_WARN("~use_gpu is true but the frame ran on the CPU path (no CUDA device or build without CUDA)");
+  }
+
+  auto msg = boost::make_shared<hapi_msgs::StereoLandmarks>();
+  const std::string bad = fillLandmarksMsg(result, pipeline_->rig(), params_.pipeline.pixel_sigma, header,
+                                           *f.left_info, *f.right_info, msg.get());
+  if (!bad.empty()) return reject("internal_error", bad);
+  diag_.frameProcessed(result);
+  pub_.publish(msg);  // shared pointer: zero-copy to nodelets in the same manager
+}
+
+}  // namespace hapi_frontend
+
+PLUGINLIB_EXPORT_CLASS(hapi_frontend::StereoFrontendNodelet, nodelet::Nodelet)

@@ -1,0 +1,92 @@
+// StereoFrontendNodelet: the thin ROS wrapper of hapi_frontend::StereoPipeline.
+//
+// Threading: the four input subscriptions (left/right image via
+// image_transport, left/right CameraInfo) live on the nodelet manager's
+// multi-threaded queue; their synchronised callback only checks stamps and
+// posts the frame into a one-slot mailbox (newest wins; an overwritten frame
+// is counted as dropped.busy). A worker thread owned by this nodelet runs the
+// pipeline and publishes, so a slow frame never holds a manager thread that
+// other nodelets (the ES-EKF back end) need.
+#pragma once
+
+#include "frontend_diagnostics.hpp"
+#include "frontend_params.hpp"
+#include "hapi_frontend/stereo_pipeline.hpp"
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <image_transport/image_transport.h>
+#include <image_transport/subscriber_filter.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace hapi_frontend {
+
+class StereoFrontendNodelet : public nodelet::Nodelet {
+ public:
+  StereoFrontendNodelet() = default;
+  ~StereoFrontendNodelet() override;
+
+ private:
+  using Image = sensor_msgs::Image;
+  using Info = sensor_msgs::CameraInfo;
+  using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Info, Image, Info>;
+  using ApproxPolicy = message_filters::sync_policies::ApproximateTime<Image, Info, Image, Info>;
+
+  struct Frame {
+    sensor_msgs::ImageConstPtr left, right;
+    sensor_msgs::CameraInfoConstPtr left_info, right_info;
+  };
+
+  void onInit() override;
+  void onSynced(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
+                const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri);
+  void onExactDrop(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
+                   const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri);
+  void workerLoop();
+  void processFrame(const Frame& f);
+  // Rebuilds the camera models only when the CameraInfo pair changed.
+  bool updateCalibration(const Info& left, const Info& right);
+  void reject(const std::string& reason, const std::string& detail);
+
+  FrontendNodeletParams params_;
+  std::unique_ptr<StereoPipeline> pipeline_;
+  FrontendDiagnostics diag_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer diag_timer_;
+  ros::Publisher pub_;
+
+  std::unique_ptr<image_transport::ImageTransport> it_;
+  image_transport::SubscriberFilter left_sub_, right_sub_;
+  message_filters::Subscriber<Info> left_info_sub_, right_info_sub_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
+  std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
+
+  // Stamp bookkeeping of the synchronised callback.
+  std::mutex stamp_mutex_;
+  ros::Time last_stamp_;
+
+  // Mailbox between the synchronised callback and the worker.
+  std::mutex mailbox_mutex_;
+  std::condition_variable mailbox_cv_;
+  std::unique_ptr<Frame> mailbox_;
+  bool stop_ = false;
+  std::thread worker_;
+
+  // Worker-only state.
+  Info calib_left_, calib_right_;
+  bool calib_ok_ = false;
+  bool warned_no_gpu_ = false;
+};
+
+}  // namespace hapi_frontend

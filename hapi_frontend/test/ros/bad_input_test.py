@@ -1,0 +1,180 @@
+#!/usr/bin/env python3
+"""rostest node: feeds the front end valid and malformed stereo frames
+(frontend_bad_input.test) and checks that it survives, keeps processing valid
+frames, and counts each rejection reason in /diagnostics; also that the
+instance started with invalid parameters reports ERROR and publishes nothing.
+
+Valid frames are a synthetic rectified pair: a random blocky texture (many
+FAST corners) and the same texture shifted by a constant disparity.
+"""
+import sys
+import threading
+import unittest
+
+import numpy as np
+import rospy
+import rostest
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from hapi_msgs.msg import StereoLandmarks
+from sensor_msgs.msg import CameraInfo, Image
+
+W, H, F, CX, CY, B, DISP = 640, 480, 500.0, 320.0, 240.0, 0.1, 16
+
+
+def texture():
+    rng = np.random.default_rng(7)
+    img = np.kron(rng.integers(0, 256, (H // 8 + 1, (W + DISP) // 8 + 1)), np.ones((8, 8)))
+    # A 3x3 box blur keeps corners but removes exact ties between neighbours.
+    pad = np.pad(img, 1, mode="edge")
+    img = sum(pad[dy:dy + img.shape[0], dx:dx + img.shape[1]] for dy in range(3) for dx in range(3)) / 9.0
+    return img[:H, :W + DISP].astype(np.uint8)
+
+
+def image(stamp, pixels, encoding="mono8", frame="bad_left_optical_frame"):
+    m = Image()
+    m.header.stamp, m.header.frame_id = stamp, frame
+    m.height, m.width = pixels.shape[:2]
+    m.encoding = encoding
+    m.step = m.width * (pixels.shape[2] if pixels.ndim == 3 else 1) * pixels.dtype.itemsize
+    m.data = pixels.tobytes()
+    return m
+
+
+def info(stamp, w=W, h=H, right=False, zero_k=False):
+    m = CameraInfo()
+    m.header.stamp = stamp
+    m.header.frame_id = "bad_right_optical_frame" if right else "bad_left_optical_frame"
+    m.width, m.height = w, h
+    m.distortion_model = "plumb_bob"
+    m.D = [0.0] * 5
+    m.K = [0.0] * 9 if zero_k else [F, 0, w / 2.0, 0, F, h / 2.0, 0, 0, 1]
+    m.R = [1, 0, 0, 0, 1, 0, 0, 0, 1]
+    m.P = [F, 0, w / 2.0, -F * B if right else 0.0, 0, F, h / 2.0, 0, 0, 0, 1, 0]
+    return m
+
+
+class BadInputTest(unittest.TestCase):
+    def setUp(self):
+        rospy.init_node("bad_input_test", anonymous=True)
+        p = rospy.get_param("~prefix")
+        self.pubs = [rospy.Publisher(p + t, c, queue_size=10) for t, c in
+                     (("/left/image_raw", Image), ("/left/camera_info", CameraInfo),
+                      ("/right/image_raw", Image), ("/right/camera_info", CameraInfo))]
+        self.lock = threading.Lock()
+        self.landmarks = []
+        self.diag = {}
+        rospy.Subscriber(rospy.get_param("~landmarks_topic"), StereoLandmarks, self.on_landmarks, queue_size=50)
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=50)
+        tex = texture()
+        self.left = tex[:, DISP:].copy()   # left x sees texture x + DISP,
+        self.right = tex[:, :W].copy()     # right x - DISP sees the same point: disparity DISP
+
+    def on_landmarks(self, m):
+        with self.lock:
+            self.landmarks.append(m)
+
+    def on_diag(self, a):
+        with self.lock:
+            for s in a.status:
+                self.diag[s.name] = s
+
+    def send(self, limg, linfo, rimg, rinfo):
+        for pub, m in zip(self.pubs, (limg, linfo, rimg, rinfo)):
+            pub.publish(m)
+        rospy.sleep(0.4)
+
+    def valid(self, t):
+        self.send(image(t, self.left), info(t), image(t, self.right, frame="bad_right_optical_frame"),
+                  info(t, right=True))
+
+    def status(self, name):
+        with self.lock:
+            return self.diag.get(name)
+
+    @staticmethod
+    def value(status, key):
+        for kv in status.values:
+            if kv.key == key:
+                return kv.value
+        return None
+
+    def test_bad_input(self):
+        deadline = rospy.Time.now() + rospy.Duration(30)
+        while any(p.get_num_connections() == 0 for p in self.pubs):
+            self.assertLess(rospy.Time.now(), deadline, "front end never subscribed")
+            rospy.sleep(0.1)
+        rospy.sleep(1.0)
+
+        t = rospy.Time.now()
+        step = rospy.Duration(0.1)
+        for _ in range(3):
+            t += step
+            self.valid(t)
+        with self.lock:
+            n_before = len(self.landmarks)
+        self.assertGreater(n_before, 0, "no landmarks for the valid synthetic frames")
+
+        r_frame = "bad_right_optical_frame"
+        # 1. unsupported encoding (bgra8)
+        t += step
+        bgra = np.dstack([self.left] * 4)
+        self.send(image(t, bgra, "bgra8"), info(t), image(t, self.right, frame=r_frame), info(t, right=True))
+        # 2. left and right sizes differ
+        t += step
+        small = self.right[::2, ::2].copy()
+        self.send(image(t, self.left), info(t), image(t, small, frame=r_frame), info(t, W // 2, H // 2, right=True))
+        # 3. zero K on the left camera
+        t += step
+        self.send(image(t, self.left), info(t, zero_k=True), image(t, self.right, frame=r_frame),
+                  info(t, right=True))
+        # 4. truncated image buffer
+        t += step
+        trunc = image(t, self.left)
+        trunc.data = trunc.data[: len(trunc.data) // 2]
+        self.send(trunc, info(t), image(t, self.right, frame=r_frame), info(t, right=True))
+        # 5. stamp going back (by less than max_backwards_jump: not a time reset)
+        self.valid(t - rospy.Duration(0.05))
+        # 6. valid frames again: the nodelet must still be working
+        for _ in range(3):
+            t += step
+            self.valid(t)
+
+        expected = {"rejected.unsupported_encoding": 1, "rejected.size_mismatch": 1,
+                    "rejected.invalid_calibration": 1, "rejected.malformed_image": 1,
+                    "rejected.stamp_not_increasing": 1}
+        deadline = rospy.Time.now() + rospy.Duration(15)
+        while True:
+            s = self.status("stereo_frontend: stereo front end")
+            ok = s is not None and all(self.value(s, k) is not None and int(self.value(s, k)) >= v
+                                       for k, v in expected.items())
+            if ok or rospy.Time.now() > deadline:
+                break
+            rospy.sleep(0.2)
+        self.assertIsNotNone(s, "no diagnostics from the front end")
+        for k, v in expected.items():
+            self.assertIsNotNone(self.value(s, k), "missing counter %s in %s" % (k, s.values))
+            self.assertEqual(int(self.value(s, k)), v, k)
+        self.assertEqual(int(self.value(s, "frames processed")), 6)
+
+        with self.lock:
+            msgs = list(self.landmarks)
+        self.assertEqual(len(msgs), 6, "expected exactly the 6 valid frames to be published")
+        self.assertGreater(msgs[-1].header.stamp, t - step * 3, "no output after the bad input")
+        for m in msgs:
+            self.assertEqual(m.header.frame_id, "bad_left_optical_frame")
+            self.assertGreaterEqual(len(m.landmarks), 20)
+            self.assertEqual(len(m.descriptors), len(m.landmarks) * m.descriptor_length)
+            # Constant disparity DISP -> depth F*B/DISP for every landmark.
+            z = np.array([l.position.z for l in m.landmarks])
+            self.assertLess(abs(np.median(z) - F * B / DISP), 0.05 * F * B / DISP)
+
+        # The instance with invalid parameters refuses to run, loudly.
+        bad = self.status("stereo_frontend_invalid: stereo front end")
+        self.assertIsNotNone(bad, "no diagnostics from the invalid instance")
+        self.assertEqual(bad.level, DiagnosticStatus.ERROR)
+        self.assertIn("invalid parameters", bad.message)
+        self.assertIn("detector", bad.message)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("hapi_frontend", "bad_input", BadInputTest, sys.argv)
