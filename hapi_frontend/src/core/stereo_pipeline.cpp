@@ -8,6 +8,7 @@
 #include "hapi_frontend/mmse_triangulator.hpp"
 #include "hapi_frontend/opencv_extractors.hpp"
 #include "hapi_frontend/orb_extractor.hpp"
+#include "hapi_frontend/stereo_refine.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -37,6 +38,9 @@ std::string PipelineParams::validate() const {
   if (!(match.max_disparity > match.min_disparity)) e << "match.max_disparity must exceed match.min_disparity; ";
   if (!(match.ratio > 0) || match.ratio > 1.0) e << "match.ratio must be in (0, 1]; ";
   if (match.max_hamming < 0) e << "match.max_hamming must be >= 0; ";
+  if (refine_half_patch < 1 || refine_half_patch > 30) e << "refine_half_patch must be in [1, 30]; ";
+  if (refine_radius < 1 || refine_radius > 30) e << "refine_radius must be in [1, 30]; ";
+  if (!(refine_min_zncc >= -1.0) || refine_min_zncc > 1.0) e << "refine_min_zncc must be in [-1, 1]; ";
   std::string s = e.str();
   if (s.size() >= 2) s.resize(s.size() - 2);
   return s;
@@ -192,22 +196,41 @@ std::string StereoPipeline::process(const cv::Mat& left_in, const cv::Mat& right
       return fl.keypoints[a.left].response > fl.keypoints[b.left].response;
     });
     const int bytes = fl.descriptors.cols;
+    RefineParams rp;
+    rp.half_patch = p.refine_half_patch;
+    rp.radius = p.refine_radius;
+    rp.min_zncc = p.refine_min_zncc;
+    double refine_ms = 0.0;
     std::vector<int> kept_left;
     for (const StereoMatch& mt : matches) {
       if (static_cast<int>(out->landmarks.size()) >= p.max_landmarks) break;
-      // Keypoint localisation noise grows with the pyramid level's pixel size
-      // (and with the downscale factor): sigma = pixel_sigma * level scale * ds.
       const Feature& kl = fl.keypoints[mt.left];
       const Feature& kr = fr.keypoints[mt.right];
-      const double sl = p.pixel_sigma * ds * (p.detector == "orb" ? kl.size / 31.0 : 1.0);
-      const double sr = p.pixel_sigma * ds * (p.detector == "orb" ? kr.size / 31.0 : 1.0);
-      const MmseEstimate est = m.mmse->estimate(und_l[mt.left], und_r[mt.right], sl, sr);
+      Eigen::Vector2d ur = und_r[mt.right];
+      // Noise model. Unrefined: keypoints are quantised to their pyramid
+      // level's grid, so sigma = pixel_sigma * level scale * downscale.
+      // Refined: the right pixel is aligned to the left patch at full
+      // resolution, so both carry the same level-0 noise pixel_sigma.
+      double sl = p.pixel_sigma * ds * (p.detector == "orb" ? kl.size / 31.0 : 1.0);
+      double sr = p.pixel_sigma * ds * (p.detector == "orb" ? kr.size / 31.0 : 1.0);
+      if (p.refine_subpixel) {
+        const auto tr = Clock::now();
+        const RefineResult rr = refineStereoMatch(m.grey_l, m.grey_r, raw_l[mt.left], raw_r[mt.right], rp);
+        if (rr.ok) ur = m.cam_r->undistort({rr.right})[0];
+        refine_ms += msSince(tr);
+        if (!rr.ok) {
+          ++out->n_refine_rejected;
+          continue;
+        }
+        sl = sr = p.pixel_sigma;
+      }
+      const MmseEstimate est = m.mmse->estimate(und_l[mt.left], ur, sl, sr);
       if (!est.valid) continue;
       const double z = est.position.z();
       if (z < p.min_depth || z > p.max_depth) continue;
       StereoLandmarkOut lm;
       lm.uv_left = und_l[mt.left];
-      lm.uv_right = und_r[mt.right];
+      lm.uv_right = ur;
       lm.position = est.position;
       lm.covariance = est.covariance;
       lm.response = kl.response;
@@ -227,7 +250,8 @@ std::string StereoPipeline::process(const cv::Mat& left_in, const cv::Mat& right
     out->descriptors.create(static_cast<int>(kept_left.size()), bytes, CV_8U);
     for (size_t i = 0; i < kept_left.size(); ++i)
       std::memcpy(out->descriptors.ptr(static_cast<int>(i)), fl.descriptors.ptr(kept_left[i]), bytes);
-    out->times.triangulate = msSince(t0);
+    out->times.refine = refine_ms;
+    out->times.triangulate = msSince(t0) - refine_ms;
     out->times.total = msSince(t_all);
   } catch (const std::exception& ex) {
     // OpenCV may throw on pathological input (e.g. a corrupt Mat header); the
