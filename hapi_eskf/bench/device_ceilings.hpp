@@ -1,0 +1,34 @@
+// Measured ceilings of the CUDA device (same run as the filter timings): FP64
+// (or FP32) GEMM rate, device-to-device copy bandwidth, and the isolated
+// C <- C - A A^T step for a given n and rank (SYRK and panelled GEMM), so the
+// benchmark can state how far that step is from its floor
+// max(flops / peak, bytes / bandwidth) (DESIGN.md "Update" step 4).
+#pragma once
+
+#include <string>
+
+namespace hapi_eskf {
+namespace bench {
+
+struct Ceilings {
+  bool measured = false;
+  std::string device;       // name, memory
+  double gemm_tflops = 0;   // best of several large square GEMMs
+  double copy_gbps = 0;     // (read + write) bytes / s of a large D2D copy
+};
+
+struct RankUpdateTiming {
+  bool measured = false;
+  double syrk_ms = 0, gemm_ms = 0;  // median of a few runs
+  double flops = 0;                 // n^2 k (one triangle, multiply-add = 2 flops)
+  double bytes = 0;                 // lower triangle read + written once, A read once
+};
+
+// false (and *why) without CUDA or device.
+bool measureCeilings(bool fp32, Ceilings* out, std::string* why);
+// Allocates its own n x n and n x k buffers (call while no backend is alive
+// when n is large); false if they do not fit.
+bool measureRankUpdate(bool fp32, int n, int k, RankUpdateTiming* out, std::string* why);
+
+}  // namespace bench
+}  // namespace hapi_eskf

@@ -1,0 +1,253 @@
+// hapi_eskf_bench: per-stage timings of the filter core (issue 3) for a list of
+// pool sizes K, CPU reference and CUDA backend in the same run, with the
+// device's measured ceilings and the floor of the C <- C - A A^T step.
+//   hapi_eskf_bench [--k 1000,2000,...] [--iters 50] [--cpu-iters 3]
+//                   [--backend cpu|cuda|both] [--precision fp64|fp32]
+//                   [--cpu-max-k 2000] [--visible 200] [--fresh 20]
+// Builds and runs without a GPU (CPU rows only).
+#include "device_ceilings.hpp"
+#include "scenario.hpp"
+
+#include "hapi_eskf/covariance_backend.hpp"
+#ifdef HAPI_ESKF_BENCH_WITH_CUDA
+#include "hapi_eskf/cuda/cuda_backend.hpp"
+#endif
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace hapi_eskf;
+using namespace hapi_eskf::bench;
+
+namespace {
+
+struct Options {
+  std::vector<int> ks = {1000, 2000, 4000, 8000, 16000, 32000};
+  int iters = 50, cpu_iters = 3, warmup = 3, cpu_warmup = 1;
+  bool cpu = true, cuda = true;
+  Precision precision = Precision::kFp64;
+  int cpu_max_k = 2000;
+  int visible = 200, fresh = 20;
+};
+
+[[noreturn]] void usage(const char* msg) {
+  std::fprintf(stderr,
+               "error: %s\nusage: hapi_eskf_bench [--k 1000,2000] [--iters N] [--cpu-iters N] [--backend cpu|cuda|both]\n"
+               "       [--precision fp64|fp32] [--cpu-max-k K] [--visible L] [--fresh M]\n",
+               msg);
+  std::exit(2);
+}
+
+int toInt(const char* s, const char* flag) {
+  char* end = nullptr;
+  const long v = std::strtol(s, &end, 10);
+  if (end == s || *end != '\0' || v < 0 || v > 10000000) usage((std::string("bad value for ") + flag).c_str());
+  return static_cast<int>(v);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> const char* {
+      if (i + 1 >= argc) usage(("missing value after " + a).c_str());
+      return argv[++i];
+    };
+    if (a == "--k") {
+      o.ks.clear();
+      std::stringstream ss(next());
+      std::string item;
+      while (std::getline(ss, item, ',')) o.ks.push_back(toInt(item.c_str(), "--k"));
+      if (o.ks.empty()) usage("--k needs at least one value");
+    } else if (a == "--iters") {
+      o.iters = toInt(next(), "--iters");
+    } else if (a == "--cpu-iters") {
+      o.cpu_iters = toInt(next(), "--cpu-iters");
+    } else if (a == "--backend") {
+      const std::string v = next();
+      if (v == "cpu") o.cuda = false;
+      else if (v == "cuda") o.cpu = false;
+      else if (v != "both") usage("--backend must be cpu, cuda or both");
+    } else if (a == "--precision") {
+      if (!parsePrecision(next(), &o.precision)) usage("--precision must be fp64 or fp32");
+    } else if (a == "--cpu-max-k") {
+      o.cpu_max_k = toInt(next(), "--cpu-max-k");
+    } else if (a == "--visible") {
+      o.visible = toInt(next(), "--visible");
+    } else if (a == "--fresh") {
+      o.fresh = toInt(next(), "--fresh");
+    } else {
+      usage(("unknown flag " + a).c_str());
+    }
+  }
+  if (o.iters < 1 || o.cpu_iters < 1) usage("--iters and --cpu-iters must be >= 1");
+  for (int k : o.ks)
+    if (k < o.visible + o.fresh) usage("every K must be >= visible + fresh");
+  return o;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Row {
+  std::string backend;
+  int K = 0, iters = 0;
+  bool ok = false;
+  std::string note;
+  double assoc = 0, removal = 0, addition = 0, predict = 0, update = 0, total = 0, bookkeeping = 0;
+  double mem_gb = 0;
+  int n_updated = 0;
+};
+
+Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, int iters, int warmup,
+        const Options& o) {
+  Row r;
+  r.backend = name;
+  r.K = K;
+  if (!b) {
+    r.note = "backend not created";
+    return r;
+  }
+  r.mem_gb = b->memoryBytes() / 1e9;
+  Scenario sc(std::move(b), K, o.visible, o.fresh, 1234u + K);
+  if (!sc.fill()) {
+    r.note = "fill failed";
+    return r;
+  }
+  std::vector<double> a, rm, ad, pr, up, to, bk, nu;
+  bool ok = true;
+  for (int i = 0; i < warmup + iters; ++i) {
+    const StageTimes t = sc.iterate();
+    ok &= t.ok;
+    if (i < warmup) continue;
+    a.push_back(t.association);
+    rm.push_back(t.removal);
+    ad.push_back(t.addition);
+    pr.push_back(t.predict);
+    up.push_back(t.update);
+    to.push_back(t.total);
+    bk.push_back(t.removal + t.addition);
+    nu.push_back(t.n_updated);
+  }
+  r.ok = ok;
+  if (!ok) r.note = "a backend call failed";
+  r.iters = iters;
+  r.assoc = median(a);
+  r.removal = median(rm);
+  r.addition = median(ad);
+  r.predict = median(pr);
+  r.update = median(up);
+  r.total = median(to);
+  r.bookkeeping = median(bk);
+  r.n_updated = static_cast<int>(median(nu));
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+  const bool fp32 = o.precision == Precision::kFp32;
+  std::printf("hapi_eskf_bench: L = %d visible (update), %d new + %d evicted per iteration, descriptors %d B\n",
+              o.visible, o.fresh, o.fresh, Scenario::kDescLen);
+  std::printf("stage times are medians over the measured iterations (after %d warm-up on CUDA, %d on CPU), in ms; "
+              "total = predict + association + update + removal + addition\n",
+              o.warmup, o.cpu_warmup);
+
+  Ceilings ceil;
+  std::string why;
+  bool have_cuda = false;
+  if (o.cuda) {
+    have_cuda = measureCeilings(fp32, &ceil, &why);
+    if (have_cuda) {
+      std::printf("device: %s\nceilings: %s GEMM %.1f TFLOP/s, D2D copy %.0f GB/s (read + write)\n",
+                  ceil.device.c_str(), fp32 ? "FP32" : "FP64", ceil.gemm_tflops, ceil.copy_gbps);
+    } else {
+      std::printf("CUDA rows skipped: %s\n", why.c_str());
+    }
+  }
+
+  std::vector<Row> rows;
+  std::map<int, RankUpdateTiming> rank;
+  for (int K : o.ks) {
+    if (have_cuda) {
+      const int n = stateDim(K);
+      RankUpdateTiming rt;
+      std::string w;
+      if (measureRankUpdate(fp32, n, 3 * o.visible, &rt, &w)) rank[K] = rt;
+      else std::printf("K=%d: isolated rank update not measured: %s\n", K, w.c_str());
+#ifdef HAPI_ESKF_BENCH_WITH_CUDA
+      std::string err;
+      auto b = cuda::makeCudaBackend(K, Scenario::kDescLen, o.precision, 0, &err);
+      if (!b) {
+        Row r;
+        r.backend = std::string("cuda-") + toString(o.precision);
+        r.K = K;
+        r.note = err;
+        rows.push_back(r);
+      } else {
+        rows.push_back(run(b->name(), std::move(b), K, o.iters, o.warmup, o));
+      }
+#endif
+    }
+    if (o.cpu && K <= o.cpu_max_k) rows.push_back(run("cpu", makeCpuBackend(K, Scenario::kDescLen), K, o.cpu_iters, o.cpu_warmup, o));
+    const Row& last = rows.back();
+    std::fprintf(stderr, "done K=%d (%s)\n", K, last.backend.c_str());
+  }
+
+  std::printf("\n| backend | K | iters | association | removal | addition | predict | update | total | bookkeeping "
+              "(rem+add) | memory GB | L used |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    if (!r.ok) {
+      std::printf("| %s | %d | - | %s |\n", r.backend.c_str(), r.K, r.note.c_str());
+      continue;
+    }
+    std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d |\n", r.backend.c_str(),
+                r.K, r.iters, r.assoc, r.removal, r.addition, r.predict, r.update, r.total, r.bookkeeping, r.mem_gb,
+                r.n_updated);
+  }
+
+  // GPU/CPU ratios where both ran.
+  bool header = false;
+  for (const Row& g : rows) {
+    if (g.backend == "cpu" || !g.ok) continue;
+    for (const Row& c : rows) {
+      if (c.backend != "cpu" || c.K != g.K || !c.ok) continue;
+      if (!header) {
+        std::printf("\nspeed-up CPU/GPU (same run):\n| K | association | removal | addition | predict | update | total |\n"
+                    "|---|---|---|---|---|---|---|\n");
+        header = true;
+      }
+      auto q = [](double a, double b) { return b > 0 ? a / b : 0.0; };
+      std::printf("| %d | %.1fx | %.1fx | %.1fx | %.1fx | %.1fx | %.1fx |\n", g.K, q(c.assoc, g.assoc),
+                  q(c.removal, g.removal), q(c.addition, g.addition), q(c.predict, g.predict), q(c.update, g.update),
+                  q(c.total, g.total));
+    }
+  }
+
+  if (!rank.empty()) {
+    std::printf("\nC <- C - A A^T alone (n = 12 + 3K, rank 3L = %d; flops = n^2 3L; bytes = lower triangle read + "
+                "written + A):\n| K | SYRK ms | panel-GEMM ms | floor ms | best / floor | best TFLOP/s | best GB/s |\n"
+                "|---|---|---|---|---|---|---|\n",
+                3 * o.visible);
+    for (const auto& kv : rank) {
+      const RankUpdateTiming& t = kv.second;
+      const double floor_ms =
+          std::max(t.flops / (ceil.gemm_tflops * 1e12), t.bytes / (ceil.copy_gbps * 1e9)) * 1e3;
+      const double best = std::min(t.syrk_ms, t.gemm_ms);
+      std::printf("| %d | %.3f | %.3f | %.3f | %.2f | %.1f | %.0f |\n", kv.first, t.syrk_ms, t.gemm_ms, floor_ms,
+                  best / floor_ms, t.flops / (best * 1e-3) / 1e12, t.bytes / (best * 1e-3) / 1e9);
+    }
+  }
+  return 0;
+}

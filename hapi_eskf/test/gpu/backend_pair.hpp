@@ -1,0 +1,141 @@
+// Test helpers: random but well-posed backend inputs (Jacobians of the real
+// models at random poses), and a driver that applies the same call to the
+// CPU reference and the CUDA backend and compares their full states.
+#pragma once
+
+#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/cuda/cuda_backend.hpp"
+#include "hapi_eskf/so3.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace hapi_eskf {
+namespace gputest {
+
+#define HAPI_REQUIRE_CUDA_DEVICE()                                      \
+  do {                                                                  \
+    std::string why_;                                                   \
+    if (!cuda::deviceAvailable(0, &why_)) GTEST_SKIP() << why_;         \
+  } while (0)
+
+struct Rng {
+  std::mt19937 gen;
+  explicit Rng(unsigned seed) : gen(seed) {}
+  double n(double s = 1.0) { return std::normal_distribution<double>(0, s)(gen); }
+  int i(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(gen); }
+  Vec3 v3(double s = 1.0) { return Vec3(n(s), n(s), n(s)); }
+  Mat3 spd3(double scale) {
+    Mat3 A;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) A(r, c) = n();
+    return scale * (A * A.transpose() + 0.5 * Mat3::Identity());
+  }
+  Mat12 spd12(double scale) {
+    Mat12 A;
+    for (int r = 0; r < 12; ++r)
+      for (int c = 0; c < 12; ++c) A(r, c) = n();
+    return scale * (A * A.transpose() / 12.0 + 0.1 * Mat12::Identity());
+  }
+  std::vector<uint8_t> bytes(std::size_t len) {
+    std::vector<uint8_t> b(len);
+    for (auto& x : b) x = static_cast<uint8_t>(i(0, 255));
+    return b;
+  }
+  std::vector<int> distinct(int K, int count) {
+    std::vector<int> all(K);
+    for (int k = 0; k < K; ++k) all[k] = k;
+    std::shuffle(all.begin(), all.end(), gen);
+    all.resize(std::min(count, K));
+    return all;
+  }
+};
+
+// Measurement block shaped like DESIGN.md "Measurement": -R^T, [h]x, R^T.
+inline MeasurementBlock randomBlock(Rng& r, int slot, double noise) {
+  MeasurementBlock b;
+  b.slot = slot;
+  const Mat3 Rt = expSO3(r.v3(1.0)).transpose();
+  b.H_pose << -Rt, skew(r.v3(3.0));
+  b.H_landmark = Rt;
+  b.R = r.spd3(noise);
+  b.innovation = r.v3(0.05);
+  return b;
+}
+
+// New landmark shaped like DESIGN.md "New landmark": m = p + R z.
+inline NewLandmarkBlock randomNewBlock(Rng& r, const std::vector<uint8_t>& d) {
+  NewLandmarkBlock b;
+  const Mat3 R = expSO3(r.v3(1.0));
+  b.G_pose << Mat3::Identity(), -R * skew(r.v3(3.0));
+  b.G_z = R;
+  b.Cz = r.spd3(0.01);
+  b.descriptor = d.data();
+  return b;
+}
+
+inline Mat12 randomF(Rng& r) {
+  Mat12 F = Mat12::Identity();
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) F(i, j) += r.n(0.05);
+  return F;
+}
+
+// max |a - b| / max |b| (1e-300 floor): the "relative" of the parity tests.
+inline double relDiff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) return 1e300;
+  if (a.size() == 0) return 0.0;
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
+}
+
+// Full observable state of a backend.
+struct Snapshot {
+  Eigen::MatrixXd C;
+  std::vector<uint8_t> desc;
+  int K;
+  explicit Snapshot(const CovarianceBackend& b) : C(b.denseCovariance()), desc(b.descriptors()), K(b.numLandmarks()) {}
+  bool same(const CovarianceBackend& b) const {
+    return b.numLandmarks() == K && b.descriptors() == desc && b.denseCovariance() == C;
+  }
+};
+
+// The same inputs into the Eigen reference and the CUDA backend.
+struct BackendPair {
+  std::unique_ptr<CovarianceBackend> cpu, gpu;
+  int dlen;
+
+  BackendPair(int capacity, int descriptor_length, Precision p = Precision::kFp64) : dlen(descriptor_length) {
+    cpu = makeCpuBackend(capacity, descriptor_length);
+    std::string err;
+    gpu = cuda::makeCudaBackend(capacity, descriptor_length, p, 0, &err);
+    EXPECT_TRUE(gpu != nullptr) << err;
+  }
+
+  // Random landmarks with fresh descriptors; both must accept them.
+  void addRandom(Rng& r, int m, std::vector<std::vector<uint8_t>>* store = nullptr) {
+    std::vector<std::vector<uint8_t>> local(m);
+    std::vector<NewLandmarkBlock> blocks;
+    for (int i = 0; i < m; ++i) {
+      local[i] = r.bytes(dlen);
+      blocks.push_back(randomNewBlock(r, local[i]));
+    }
+    ASSERT_EQ(cpu->addLandmarks(blocks), Status::kOk);
+    ASSERT_EQ(gpu->addLandmarks(blocks), Status::kOk);
+    if (store) store->insert(store->end(), local.begin(), local.end());
+  }
+
+  void expectStatesEqual(double tol, const char* where) const {
+    ASSERT_EQ(cpu->numLandmarks(), gpu->numLandmarks()) << where;
+    EXPECT_LE(relDiff(gpu->denseCovariance(), cpu->denseCovariance()), tol) << where;
+    EXPECT_LE(relDiff(gpu->poseCovariance(), cpu->poseCovariance()), tol) << where;
+    EXPECT_EQ(gpu->descriptors(), cpu->descriptors()) << where;
+  }
+};
+
+}  // namespace gputest
+}  // namespace hapi_eskf
