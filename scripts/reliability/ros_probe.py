@@ -1,0 +1,97 @@
+#!/usr/bin/python3
+"""Watches a running HAPI system for a while and writes what it saw as JSON.
+
+  ros_probe.py --duration 30 --out phase.json [--odom /eskf/odom]
+
+Records every odometry message (wall time of arrival, stamp, position) and
+the latest /diagnostics status of every component, so the reliability
+scripts (two_hosts.sh, soak.sh) can judge a phase afterwards: was odometry
+published, at what rate, did the pose jump, did a time jump reset the
+filter, how many messages were rejected or dropped.
+"""
+import argparse
+import json
+import math
+import sys
+import threading
+import time
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+from nav_msgs.msg import Odometry
+
+
+class Probe(object):
+    def __init__(self, odom_topic):
+        self.lock = threading.Lock()
+        self.odom = []   # [wall, stamp, x, y, z]
+        self.diag = {}   # status name -> {"level":, "message":, "values": {}}
+        rospy.Subscriber(odom_topic, Odometry, self.on_odom, queue_size=1000)
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=100)
+
+    def on_odom(self, msg):
+        p = msg.pose.pose.position
+        with self.lock:
+            self.odom.append([time.time(), msg.header.stamp.to_sec(), p.x, p.y, p.z])
+
+    def on_diag(self, msg):
+        with self.lock:
+            for st in msg.status:
+                self.diag[st.name] = {"level": ord(st.level) if isinstance(st.level, (bytes, str)) else int(st.level),
+                                      "message": st.message,
+                                      "values": {kv.key: kv.value for kv in st.values}}
+
+
+def summarise(odom, start_wall):
+    """Rate, largest position step and the resets seen as stamps going backwards."""
+    s = {"odom_count": len(odom)}
+    if not odom:
+        return s
+    s["odom_first_wall"] = odom[0][0] - start_wall
+    s["odom_last_wall"] = odom[-1][0] - start_wall
+    span = odom[-1][0] - odom[0][0]
+    s["odom_rate_hz"] = (len(odom) - 1) / span if span > 0 else 0.0
+    steps, jumps = [], []
+    for a, b in zip(odom, odom[1:]):
+        if b[1] < a[1]:
+            # Stamp went backwards: the first pose of the new timeline (the
+            # filter restarts at the origin = its first camera pose).
+            jumps.append({"wall": b[0] - start_wall, "from_stamp": a[1], "to_stamp": b[1],
+                          "first_position_norm": math.sqrt(b[2] ** 2 + b[3] ** 2 + b[4] ** 2)})
+            continue
+        steps.append(math.sqrt((b[2] - a[2]) ** 2 + (b[3] - a[3]) ** 2 + (b[4] - a[4]) ** 2))
+    s["max_step_m"] = max(steps) if steps else 0.0
+    s["stamp_jumps"] = jumps
+    gaps = [b[0] - a[0] for a, b in zip(odom, odom[1:])]
+    s["max_gap_s"] = max(gaps) if gaps else 0.0
+    return s
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--duration", type=float, required=True, help="seconds to watch (wall time)")
+    ap.add_argument("--out", required=True, help="JSON file to write")
+    ap.add_argument("--odom", default="/eskf/odom")
+    args = ap.parse_args(rospy.myargv()[1:])
+    rospy.init_node("hapi_ros_probe", anonymous=True, disable_signals=True)
+    probe = Probe(args.odom)
+    start = time.time()
+    while time.time() - start < args.duration and not rospy.is_shutdown():
+        time.sleep(0.1)
+    with probe.lock:
+        odom, diag = list(probe.odom), dict(probe.diag)
+    out = summarise(odom, start)
+    out["duration_s"] = args.duration
+    out["diagnostics"] = diag
+    out["odom"] = [[round(o[0] - start, 3), o[1], o[2], o[3], o[4]] for o in odom]
+    with open(args.out, "w") as f:
+        json.dump(out, f, indent=1)
+    print("[probe] %d odometry messages (%.1f Hz), max step %.4f m, %d stamp jumps, %d diagnostic statuses"
+          % (out["odom_count"], out.get("odom_rate_hz", 0.0), out.get("max_step_m", 0.0),
+             len(out.get("stamp_jumps", [])), len(diag)))
+    rospy.signal_shutdown("done")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# Soak test: the whole system (all_in_one.launch, one nodelet manager holding
+# the front end and the back end) on the globe bag played in a loop at its
+# recorded 10 Hz for HAPI_SOAK_S seconds (default 600), sampling the
+# manager's resident memory every HAPI_SOAK_PERIOD seconds (default 10).
+# Prints a table (time, RSS, odometry in the period) and a verdict: memory
+# growth after the warm-up must be bounded (the filter's pool is fixed-size;
+# anything that grows with time is a leak or an unbounded buffer).
+#
+#   scripts/reliability/soak.sh [BAG]        (after scripts/setup.sh)
+#
+# Private roscore on a free port; results in $HAPI_RUN_DIR (default
+# <ws>/reliability/soak): samples.csv, probe.json, logs, report.txt.
+set -euo pipefail
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+WS="${HAPI_WS:-$REPO/.ws}"
+export PATH="/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
+unset PYTHONPATH PYTHONHOME VIRTUAL_ENV || true
+DURATION="${HAPI_SOAK_S:-600}"
+PERIOD="${HAPI_SOAK_PERIOD:-10}"
+WARMUP="${HAPI_SOAK_WARMUP_S:-120}"       # growth is judged after this
+MAX_GROWTH_MB="${HAPI_SOAK_MAX_GROWTH_MB:-20}"
+OUT="${HAPI_RUN_DIR:-$WS/reliability/soak}"
+die() { echo "[soak] ERROR: $*" >&2; exit 1; }
+log() { echo "[soak] $*"; }
+
+set +u
+# shellcheck disable=SC1091
+source "$WS/devel/setup.bash" || die "no workspace at $WS (run scripts/setup.sh)"
+set -u
+BAG="${1:-${HAPI_DATA:-$REPO/.data}/globe.bag}"
+mkdir -p "$OUT"
+rm -f "$OUT"/*.log "$OUT"/samples.csv "$OUT"/report.txt "$OUT"/probe.json
+if [ ! -s "$BAG" ]; then
+  BAG="$OUT/globe.bag"
+  [ -s "$BAG" ] || rosrun hapi_sim make_globe_bag --output "$BAG" --seed 1 --duration 25 --rate 10 --imu 1
+fi
+PORT="$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
+export ROS_MASTER_URI="http://127.0.0.1:$PORT" ROS_IP=127.0.0.1 ROS_HOME="$OUT/ros_home"
+unset ROS_HOSTNAME || true
+
+PIDS=()
+cleanup() {
+  set +e
+  for ((i = ${#PIDS[@]} - 1; i >= 0; i--)); do kill -INT "${PIDS[$i]}" 2>/dev/null; done
+  sleep 3
+  for p in "${PIDS[@]}"; do kill -KILL "$p" 2>/dev/null; done
+}
+trap cleanup EXIT
+
+roscore -p "$PORT" >"$OUT/roscore.log" 2>&1 &
+PIDS+=($!)
+for _ in $(seq 60); do rosparam get /rosdistro >/dev/null 2>&1 && break; sleep 0.5; done
+rosparam get /rosdistro >/dev/null 2>&1 || die "roscore did not start"
+roslaunch hapi_slam all_in_one.launch rviz:=false >"$OUT/system.log" 2>&1 &
+LAUNCH_PID=$!
+PIDS+=("$LAUNCH_PID")
+for _ in $(seq 120); do rosnode list 2>/dev/null | grep -qx /eskf && rosnode list | grep -qx /stereo_frontend && break; sleep 0.5; done
+rosnode list | grep -qx /eskf || die "back end did not start (see $OUT/system.log)"
+# The manager's process: the child of our roslaunch started as __name:=hapi_manager.
+MGR_PID=""
+for p in $(pgrep -P "$LAUNCH_PID"); do
+  if tr '\0' ' ' <"/proc/$p/cmdline" | grep -q "__name:=hapi_manager"; then MGR_PID="$p"; fi
+done
+[ -n "$MGR_PID" ] || die "nodelet manager process not found"
+log "manager pid $MGR_PID; looping $BAG for $DURATION s, sampling every $PERIOD s"
+
+python3 "$REPO/scripts/reliability/ros_probe.py" --duration "$((DURATION + 5))" --out "$OUT/probe.json" \
+  >"$OUT/probe.log" 2>&1 &
+PROBE_PID=$!
+PIDS+=("$PROBE_PID")
+rosbag play -q -l "$BAG" >"$OUT/rosbag.log" 2>&1 &
+PLAY_PID=$!
+PIDS+=("$PLAY_PID")
+
+echo "t_s,rss_mib,threads" >"$OUT/samples.csv"
+START=$(date +%s)
+while :; do
+  now=$(($(date +%s) - START))
+  kill -0 "$MGR_PID" 2>/dev/null || die "the nodelet manager died after $now s (see $OUT/system.log)"
+  rss_kb=$(awk '/^VmRSS/ {print $2}' "/proc/$MGR_PID/status")
+  thr=$(awk '/^Threads/ {print $2}' "/proc/$MGR_PID/status")
+  echo "$now,$(python3 -c "print('%.1f' % ($rss_kb / 1024.0))"),$thr" >>"$OUT/samples.csv"
+  [ "$now" -ge "$DURATION" ] && break
+  sleep "$PERIOD"
+done
+kill -INT "$PLAY_PID" 2>/dev/null || true
+wait "$PROBE_PID" || true
+
+python3 - "$OUT" "$PERIOD" "$WARMUP" "$MAX_GROWTH_MB" <<'EOF' | tee "$OUT/report.txt"
+import csv, json, sys
+out, period, warmup, max_growth = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
+rows = [(float(r["t_s"]), float(r["rss_mib"]), int(r["threads"])) for r in csv.DictReader(open(out + "/samples.csv"))]
+probe = json.load(open(out + "/probe.json"))
+odom_t = [o[0] for o in probe["odom"]]
+print("%8s %10s %8s %12s" % ("t [s]", "RSS [MiB]", "threads", "odom/period"))
+prev = None
+for t, rss, thr in rows:
+    n = sum(1 for x in odom_t if (prev if prev is not None else -1e9) < x <= t)
+    print("%8.0f %10.1f %8d %12d" % (t, rss, thr, n))
+    prev = t
+after = [r for r in rows if r[0] >= warmup]
+ok = len(after) >= 2
+if ok:
+    # Least-squares slope of RSS over the post-warm-up samples, and the total change.
+    n = len(after)
+    mt = sum(r[0] for r in after) / n
+    mr = sum(r[1] for r in after) / n
+    den = sum((r[0] - mt) ** 2 for r in after) or 1.0
+    slope = sum((r[0] - mt) * (r[1] - mr) for r in after) / den * 60.0
+    growth = after[-1][1] - after[0][1]
+    print("after %.0f s warm-up: RSS %.1f -> %.1f MiB (%+.1f MiB), slope %+.2f MiB/min, peak %.1f MiB" % (
+        warmup, after[0][1], after[-1][1], growth, slope, max(r[1] for r in rows)))
+    ok = growth <= max_growth and slope * (rows[-1][0] - warmup) / 60.0 <= max_growth
+be = {}
+for name, st in probe["diagnostics"].items():
+    if "eskf" in name:
+        be = st["values"]
+print("odometry: %d messages (%.1f Hz), max gap %.2f s; back end: received %s processed %s dropped %s rejected %s "
+      "time_jumps %s filter_errors %s" % (probe["odom_count"], probe.get("odom_rate_hz", 0), probe.get("max_gap_s", 0),
+      *(be.get(k, "?") for k in ("frames_received", "frames_processed", "frames_dropped", "rejected_total",
+                                 "time_jumps", "filter_errors"))))
+alive = probe["odom_count"] > 0 and probe.get("max_gap_s", 1e9) < 30
+print("VERDICT: %s (bounded growth <= %.0f MiB after warm-up: %s; odometry throughout: %s)" % (
+    "PASS" if ok and alive else "FAIL", max_growth, "yes" if ok else "no", "yes" if alive else "no"))
+sys.exit(0 if ok and alive else 1)
+EOF
