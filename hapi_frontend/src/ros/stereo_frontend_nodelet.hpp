@@ -26,6 +26,7 @@
 #include <sensor_msgs/Image.h>
 
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -82,6 +83,11 @@ class StereoFrontendNodelet : public nodelet::Nodelet {
   std::unique_ptr<Frame> mailbox_;
   bool stop_ = false;
   std::thread worker_;
+
+  // Per-reason rate limit of the rejection log.
+  static constexpr double kErrorLogPeriodS = 2.0;
+  std::mutex log_mutex_;
+  std::map<std::string, ros::WallTime> last_error_log_;
 
   // Worker-only state.
   Info calib_left_, calib_right_;

@@ -62,18 +62,34 @@ def info(stamp, w=W, h=H, right=False, zero_k=False):
 class BadInputTest(unittest.TestCase):
     def setUp(self):
         rospy.init_node("bad_input_test", anonymous=True)
-        p = rospy.get_param("~prefix")
-        self.pubs = [rospy.Publisher(p + t, c, queue_size=10) for t, c in
-                     (("/left/image_raw", Image), ("/left/camera_info", CameraInfo),
-                      ("/right/image_raw", Image), ("/right/camera_info", CameraInfo))]
+        self.pubs = self.publishers(rospy.get_param("~prefix"))
+        self.approx_pubs = self.publishers("/approx")
         self.lock = threading.Lock()
         self.landmarks = []
+        self.approx_landmarks = []
         self.diag = {}
         rospy.Subscriber(rospy.get_param("~landmarks_topic"), StereoLandmarks, self.on_landmarks, queue_size=50)
+        rospy.Subscriber("/stereo_frontend_approx/landmarks", StereoLandmarks,
+                         lambda m: self.approx_landmarks.append(m), queue_size=50)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=50)
         tex = texture()
         self.left = tex[:, :W].copy()      # texture column X is at left x = X
         self.right = tex[:, DISP:].copy()  # and at right x = X - DISP: disparity +DISP
+
+    @staticmethod
+    def publishers(prefix):
+        return [rospy.Publisher(prefix + t, c, queue_size=10) for t, c in
+                (("/left/image_raw", Image), ("/left/camera_info", CameraInfo),
+                 ("/right/image_raw", Image), ("/right/camera_info", CameraInfo))]
+
+    @staticmethod
+    def wait_connected(pubs):
+        deadline = rospy.Time.now() + rospy.Duration(30)
+        while any(p.get_num_connections() == 0 for p in pubs):
+            if rospy.Time.now() > deadline:
+                return False
+            rospy.sleep(0.1)
+        return True
 
     def on_landmarks(self, m):
         with self.lock:
@@ -84,8 +100,8 @@ class BadInputTest(unittest.TestCase):
             for s in a.status:
                 self.diag[s.name] = s
 
-    def send(self, limg, linfo, rimg, rinfo):
-        for pub, m in zip(self.pubs, (limg, linfo, rimg, rinfo)):
+    def send(self, limg, linfo, rimg, rinfo, pubs=None):
+        for pub, m in zip(pubs or self.pubs, (limg, linfo, rimg, rinfo)):
             pub.publish(m)
         rospy.sleep(0.4)
 
@@ -105,10 +121,8 @@ class BadInputTest(unittest.TestCase):
         return None
 
     def test_bad_input(self):
-        deadline = rospy.Time.now() + rospy.Duration(30)
-        while any(p.get_num_connections() == 0 for p in self.pubs):
-            self.assertLess(rospy.Time.now(), deadline, "front end never subscribed")
-            rospy.sleep(0.1)
+        self.assertTrue(self.wait_connected(self.pubs), "front end never subscribed")
+        self.assertTrue(self.wait_connected(self.approx_pubs), "approximate-sync front end never subscribed")
         rospy.sleep(1.0)
 
         t = rospy.Time.now()
@@ -175,6 +189,29 @@ class BadInputTest(unittest.TestCase):
             self.assertLess(abs(np.median(z) - F * B / DISP), 0.05 * F * B / DISP)
 
         self.assertEqual(int(self.value(s, "rejected total")), 5)
+
+        # Approximate sync: right stamps 2 ms late are paired and processed;
+        # 50 ms late (> approx_slop 5 ms) is paired but rejected, and counted.
+        r_frame = "bad_right_optical_frame"
+        for k, offset in enumerate((0.002, 0.002, 0.05, 0.002, 0.002, 0.002)):
+            ta = t + rospy.Duration(1.0 + 0.1 * k)
+            tr = ta + rospy.Duration(offset)
+            self.send(image(ta, self.left), info(ta), image(tr, self.right, frame=r_frame), info(tr, right=True),
+                      pubs=self.approx_pubs)
+        deadline = rospy.Time.now() + rospy.Duration(10)
+        while True:
+            a = self.status("stereo_frontend_approx: stereo front end")
+            if (a is not None and self.value(a, "rejected.unsynchronised") is not None
+                    and int(self.value(a, "frames processed")) >= 3) or rospy.Time.now() > deadline:
+                break
+            rospy.sleep(0.2)
+        self.assertIsNotNone(a, "no diagnostics from the approximate-sync instance")
+        self.assertEqual(self.value(a, "rejected.unsynchronised"), "1", a.values)
+        self.assertEqual(self.value(a, "rejected total"), "1", a.values)
+        self.assertGreaterEqual(int(self.value(a, "frames processed")), 3)
+        self.assertGreaterEqual(len(self.approx_landmarks), 3)
+        late = [m for m in self.approx_landmarks if m.header.stamp == t + rospy.Duration(1.2)]
+        self.assertEqual(late, [], "the unsynchronised pair was published")
 
         # The instance with invalid parameters refuses to run, loudly.
         bad = self.status("stereo_frontend_invalid: stereo front end")
