@@ -88,7 +88,10 @@ void EskfNodelet::onInit() {
   stamp_guard_ = std::make_unique<ros_glue::StampGuard>(params_.time_jump_reset);
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
-  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+  // Listen only when a lookup is needed (IMU mounting, base frame): otherwise
+  // the node would buffer its own high-rate TF for nothing.
+  if (params_.use_imu || !params_.base_frame.empty())
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
 
   // Topics are relative to the nodelet's namespace/name: a nodelet named
@@ -114,7 +117,9 @@ void EskfNodelet::onInit() {
   worker_ = std::thread(&EskfNodelet::workerLoop, this);
 
   // Subscribe last: callbacks may run as soon as this returns.
-  landmarks_sub_ = pnh.subscribe("landmarks", 5, &EskfNodelet::landmarksCallback, this,
+  // The ROS queue only has to absorb a burst until the (fast) callback runs;
+  // rate mismatch is handled by the mailbox, where drops are counted.
+  landmarks_sub_ = pnh.subscribe("landmarks", 10, &EskfNodelet::landmarksCallback, this,
                                  ros::TransportHints().tcpNoDelay());
   if (params_.use_imu) imu_sub_ = nh.subscribe(params_.imu_topic, 200, &EskfNodelet::imuCallback, this);
 
@@ -315,9 +320,10 @@ void EskfNodelet::workerLoop() {
         ++n_stale_;  // accepted before a reset: belongs to the old timeline
       } else {
         try {
-          process(*w);
+          if (!process(*w)) ++n_failed_;
         } catch (const std::exception& e) {  // never let the worker die (e.g. std::bad_alloc)
           ++n_filter_errors_;
+          ++n_failed_;
           NODELET_ERROR_THROTTLE(1.0, "exception while processing a frame: %s", e.what());
         }
       }
@@ -339,6 +345,7 @@ void EskfNodelet::resetFilter() {
     std::lock_guard<std::mutex> lk(path_mu_);
     trajectory_.clear();
   }
+  tf_buffer_->clear();  // after a bag loop its data lies in the "future" of the new timeline
   nav_msgs::Path empty;
   empty.header.frame_id = params_.world_frame;
   empty.header.stamp = last_stamp_;
@@ -419,18 +426,18 @@ void EskfNodelet::applyImu(double up_to) {
   }
 }
 
-void EskfNodelet::process(Work& w) {
-  if (!ensureFilter(w)) return;
+bool EskfNodelet::process(Work& w) {
+  if (!ensureFilter(w)) return false;
   const double stamp = w.frame.stamp;
   Status st = Status::kOk;
   IterationReport rep;
   if (need_init_) {
-    if (!anchorWorld(w)) return;
+    if (!anchorWorld(w)) return false;
     st = eskf_->reset(PoseState(), stamp);
     if (st != Status::kOk) {
       ++n_filter_errors_;
       NODELET_ERROR_THROTTLE(1.0, "filter reset failed: %s", toString(st));
-      return;
+      return false;
     }
     need_init_ = false;
     std::lock_guard<std::mutex> lk(imu_mu_);  // samples before the first frame are not needed
@@ -453,7 +460,7 @@ void EskfNodelet::process(Work& w) {
       last_filter_error_ = toString(st);
     }
     NODELET_ERROR_THROTTLE(1.0, "filter rejected the frame at %.3f: %s (state unchanged)", stamp, toString(st));
-    return;
+    return false;
   }
   ++n_processed_;
   if (rep.update_skipped) {
@@ -482,6 +489,7 @@ void EskfNodelet::process(Work& w) {
   }
   last_stamp_ = ros::Time(stamp);
   publishState(w.frame_id);
+  return true;
 }
 
 void EskfNodelet::publishState(const std::string& camera_frame) {
@@ -615,6 +623,8 @@ void EskfNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("frames_processed", processed);
   stat.add("frames_dropped", dropped);
   stat.add("frames_stale_after_reset", n_stale_.load());
+  // Once idle: accepted == processed + dropped + stale_after_reset + failed.
+  stat.add("frames_failed", n_failed_.load());
   stat.add("rejected_total", rejected);
   for (int r = 1; r < ros_glue::kRejectCount; ++r)
     stat.add(std::string("rejected_") + ros_glue::rejectName(static_cast<Reject>(r)), n_rejected_[r].load());

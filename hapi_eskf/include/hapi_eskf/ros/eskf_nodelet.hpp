@@ -77,7 +77,7 @@ class EskfNodelet : public nodelet::Nodelet {
   bool ensureFilter(const Work& w);
   bool anchorWorld(const Work& w);
   void applyImu(double up_to);
-  void process(Work& w);
+  bool process(Work& w);  // false: frame not used (error counted)
   void publishState(const std::string& camera_frame);
   void takeSnapshot();
 
@@ -133,7 +133,7 @@ class EskfNodelet : public nodelet::Nodelet {
 
   // Counters for /diagnostics.
   std::atomic<std::uint64_t> n_received_{0}, n_accepted_{0}, n_processed_{0}, n_resets_{0}, n_time_jumps_{0},
-      n_update_skips_{0}, n_filter_errors_{0}, n_stale_{0}, n_imu_used_{0}, n_imu_dropped_{0};
+      n_update_skips_{0}, n_filter_errors_{0}, n_stale_{0}, n_failed_{0}, n_imu_used_{0}, n_imu_dropped_{0};
   std::array<std::atomic<std::uint64_t>, ros_glue::kRejectCount> n_rejected_{};
   std::mutex stats_mu_;
   StageStats stages_;
