@@ -5,6 +5,8 @@
 #include "hapi_frontend/stereo_match_core.hpp"
 
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include <random>
 
@@ -165,4 +167,77 @@ TEST(StereoMatcher, MalformedInputGivesNoMatches) {
   EXPECT_TRUE(m.match(p.left, short_ul, p.right, p.ur, rectifiedF(), sp).empty());
   FeatureSet empty;
   EXPECT_TRUE(m.match(empty, {}, p.right, p.ur, rectifiedF(), sp).empty());
+}
+
+// The documented contract, written as the naive O(n_l * n_r) loop over j in
+// ascending order. stereo_match_core (y-band search, order-independent
+// rules) must return exactly this -- as must the CUDA matcher.
+namespace {
+std::vector<MatchCoreResult> referenceMatch(const std::vector<uint8_t>& dl, const std::vector<float>& pl,
+                                            const std::vector<uint8_t>& dr, const std::vector<float>& pr, int bytes,
+                                            const double F[9], const MatchCoreParams& p) {
+  const int nl = static_cast<int>(pl.size() / 2), nr = static_cast<int>(pr.size() / 2);
+  const int kInf = 1 << 30;
+  std::vector<int> rb(nr, kInf), ri(nr, -1);
+  std::vector<MatchCoreResult> pre;
+  for (int i = 0; i < nl; ++i) {
+    const double x = pl[2 * i], y = pl[2 * i + 1];
+    const double l0 = F[0] * x + F[1] * y + F[2], l1 = F[3] * x + F[4] * y + F[5], l2 = F[6] * x + F[7] * y + F[8];
+    int b = kInf, s = kInf, bj = -1;
+    for (int j = 0; j < nr; ++j) {
+      const double disp = x - pr[2 * j];
+      const double e = l0 * pr[2 * j] + l1 * pr[2 * j + 1] + l2;
+      if (disp < p.min_disparity || disp > p.max_disparity || e * e > p.max_epipolar_px * p.max_epipolar_px * (l0 * l0 + l1 * l1))
+        continue;
+      const int d = hamming_distance(&dl[i * bytes], &dr[j * bytes], bytes);
+      if (d < b) { s = b; b = d; bj = j; } else if (d < s) { s = d; }
+      if (d < rb[j]) { rb[j] = d; ri[j] = i; }
+    }
+    if (bj >= 0 && b <= p.max_hamming && (s == kInf || double(b) < p.ratio * double(s))) pre.push_back({i, bj, b});
+  }
+  std::vector<MatchCoreResult> out;
+  for (const auto& m : pre)
+    if (!p.cross_check || ri[m.right] == m.left) out.push_back(m);
+  return out;
+}
+}  // namespace
+
+TEST(StereoMatchCore, EqualsNaiveReferenceIncludingTies) {
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 12; ++trial) {
+    const int nl = 400, nr = 420, bytes = trial % 3 == 0 ? 61 : 32;
+    std::uniform_real_distribution<float> X(0, 640), Y(0, 480);
+    // Few distinct descriptors (4 random bits) -> many exact distance ties.
+    std::uniform_int_distribution<int> B(0, 15);
+    std::vector<uint8_t> dl(nl * bytes, 0), dr(nr * bytes, 0);
+    for (auto& v : dl) v = static_cast<uint8_t>(B(rng) == 0 ? 1 : 0);
+    for (auto& v : dr) v = static_cast<uint8_t>(B(rng) == 0 ? 1 : 0);
+    std::vector<float> pl(2 * nl), pr(2 * nr);
+    for (int i = 0; i < nl; ++i) { pl[2 * i] = X(rng); pl[2 * i + 1] = std::round(Y(rng) / 4) * 4; }
+    for (int j = 0; j < nr; ++j) { pr[2 * j] = X(rng); pr[2 * j + 1] = std::round(Y(rng) / 4) * 4 + (j % 3) * 0.5f; }
+    // Rectified, slightly rotated, and (trial 5) vertical-baseline geometry.
+    const Eigen::Matrix3d E = trial == 5 ? (Eigen::Matrix3d() << 0, 0, 1, 0, 0, 0, -1, 0, 0).finished()
+                                         : (Eigen::Matrix3d() << 0, 0, 0, 0, 0, -1, 0, 1, 0).finished();
+    Eigen::Matrix3d K;
+    K << 500, 0, 320, 0, 500, 240, 0, 0, 1;
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.002 * trial, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Matrix3d F = K.inverse().transpose() * E * R * K.inverse();
+    double f[9];
+    for (int k = 0; k < 9; ++k) f[k] = F(k / 3, k % 3) / F.norm();
+    MatchCoreParams p;
+    p.max_epipolar_px = 1.0 + 0.5 * (trial % 4);
+    p.min_disparity = trial == 5 ? -640 : 0.5;
+    p.cross_check = trial % 2 == 0;
+    p.ratio = trial % 4 == 1 ? 1.0 : 0.8;
+    p.max_hamming = 64;
+    const auto got = stereo_match_core(dl.data(), pl.data(), nl, dr.data(), pr.data(), nr, bytes, f, p);
+    const auto want = referenceMatch(dl, pl, dr, pr, bytes, f, p);
+    ASSERT_EQ(got.size(), want.size()) << "trial " << trial;
+    for (size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].left, want[k].left);
+      EXPECT_EQ(got[k].right, want[k].right);
+      EXPECT_EQ(got[k].distance, want[k].distance);
+    }
+    if (trial == 0) EXPECT_GT(got.size(), 5u) << "test data too sparse to be meaningful";
+  }
 }

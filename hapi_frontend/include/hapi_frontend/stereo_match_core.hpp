@@ -21,10 +21,14 @@
 //     the SMALLEST j; second = smallest d among the other candidates (may equal
 //     best). Accept when best <= max_hamming and (no second candidate or
 //     best < ratio * second, evaluated as double(best) < ratio * double(second)).
-//     Equal best and second distances therefore never pass (ambiguous match).
+//     Equal best and second distances therefore never pass (ambiguous match),
+//     so the left-side tie rule never shows in the output; the right-side
+//     one (rule 4) does.
 //  4. Cross-check (optional): over all left candidates i of right j (geometry
 //     only, no ratio test), the best left = smallest d, ties -> SMALLEST i.
 //     Keep (i, j) only if that best left is i.
+//  Rules 3 and 4 do not depend on the order in which candidates are visited
+//  (the CPU visits a y band of right keypoints, a GPU may visit all of them).
 //  5. Output sorted by left index ascending (at most one match per left and,
 //     with cross-check, per right).
 #pragma once

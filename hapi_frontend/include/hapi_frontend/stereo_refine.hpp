@@ -13,8 +13,8 @@
 namespace hapi_frontend {
 
 struct RefineParams {
-  int half_patch = 5;      // patch (2h+1)^2 [px]
-  int radius = 3;          // integer search +- radius around the right keypoint [px]
+  int half_patch = 5;      // patch (2h+1)^2 [px], h <= 30
+  int radius = 3;          // integer search +- radius around the right keypoint [px], <= 30
   double min_zncc = 0.8;   // correlation peak below this -> match rejected
 };
 
