@@ -121,14 +121,19 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   r.mem_gb = b->memoryBytes() / 1e9;
   Scenario sc(std::move(b), K, o.visible, o.fresh, 1234u + K);
   if (!sc.fill()) {
-    r.note = "fill failed";
+    r.note = "filling the pool failed";
     return r;
   }
+  r.note.clear();
   std::vector<double> a, rm, ad, pr, up, to, bk, nu;
   bool ok = true;
   for (int i = 0; i < warmup + iters; ++i) {
     const StageTimes t = sc.iterate();
-    ok &= t.ok;
+    if (!t.ok) {
+      ok = false;
+      r.note = "iteration " + std::to_string(i) + " failed at " + t.failure;
+      break;
+    }
     if (i < warmup) continue;
     a.push_back(t.association);
     rm.push_back(t.removal);
@@ -140,7 +145,6 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     nu.push_back(t.n_updated);
   }
   r.ok = ok;
-  if (!ok) r.note = "a backend call failed";
   r.iters = iters;
   r.assoc = median(a);
   r.removal = median(rm);
@@ -156,6 +160,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress survives a crash or a timeout
   const Options o = parse(argc, argv);
   const bool fp32 = o.precision == Precision::kFp32;
   std::printf("hapi_eskf_bench: L = %d visible (update), %d new + %d evicted per iteration, descriptors %d B\n",
@@ -201,8 +206,9 @@ int main(int argc, char** argv) {
 #endif
     }
     if (o.cpu && K <= o.cpu_max_k) rows.push_back(run("cpu", makeCpuBackend(K, Scenario::kDescLen), K, o.cpu_iters, o.cpu_warmup, o));
-    const Row& last = rows.back();
-    std::fprintf(stderr, "done K=%d (%s)\n", K, last.backend.c_str());
+    for (const Row& r : rows)
+      if (r.K == K)
+        std::printf("  K=%d %s: %s total %.3f ms\n", K, r.backend.c_str(), r.ok ? "ok" : r.note.c_str(), r.total);
   }
 
   std::printf("\n| backend | K | iters | association | removal | addition | predict | update | total | bookkeeping "

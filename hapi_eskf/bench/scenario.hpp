@@ -13,6 +13,7 @@
 
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace hapi_eskf {
@@ -22,6 +23,7 @@ struct StageTimes {
   double association = 0, removal = 0, addition = 0, predict = 0, update = 0, total = 0;
   int n_updated = 0, n_added = 0, n_removed = 0;
   bool ok = true;
+  std::string failure;  // "<stage>: <status>" of the first failed call
 };
 
 class Scenario {
