@@ -19,11 +19,11 @@ struct Association {
   std::vector<int> slot;
   // Per measurement: squared Mahalanobis distance of the accepted association (else 0).
   std::vector<double> d2;
-  // Per measurement: true when it may start a new landmark, i.e. it has no
-  // accepted association and did not lose a landmark to another measurement
-  // of the same frame (the loser saw an existing landmark: adding it would
-  // duplicate that landmark). Measurements rejected by the gate are eligible:
-  // the gate says they are not that landmark.
+  // Per measurement: true when it may start a new landmark, i.e. no pool
+  // descriptor is within max_hamming of it. A measurement that resembles a
+  // pool landmark but was not associated (ratio test, gate, conflict) is not
+  // added: a second copy of a landmark would make the ratio test ambiguous for
+  // both copies from then on, and each later observation would add another.
   std::vector<char> may_add;
   int n_candidates = 0;  // descriptor matches (threshold + ratio test) before gating
   int n_gated_out = 0;   // rejected by the Mahalanobis gate (or S_j not PD)

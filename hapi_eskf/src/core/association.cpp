@@ -28,6 +28,11 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const std::vec
   for (int i = 0; i < n; ++i) {
     const DescriptorMatch& m = matches[i];
     if (m.best_slot < 0 || m.best_distance > settings.max_hamming) continue;
+    // From here on the measurement resembles a pool landmark: even if it is
+    // not used (ambiguous, gated out, lost a conflict), adding it would put a
+    // second copy of that landmark into the pool, and copies make the ratio
+    // test fail for good, so every later observation would add yet another.
+    a.may_add[i] = 0;
     // Ratio test on distances: the best must be clearly better than the runner-up.
     if (m.second_slot >= 0 && !(m.best_distance < settings.match_ratio * m.second_distance)) continue;
     cand_meas.push_back(i);
@@ -58,7 +63,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const std::vec
     const Vec3 nu = z.z - measure(pose, positions[k]);
     Eigen::LLT<Mat3> llt(S);
     if (llt.info() != Eigen::Success) {
-      ++a.n_gated_out;
+      ++a.n_gated_out;  // cannot be gated: treated as rejected
       continue;
     }
     const double d2 = llt.matrixL().solve(nu).squaredNorm();
