@@ -77,8 +77,18 @@ void StereoFrontendNodelet::onInit() {
   // The hint reads ~image_transport (already validated), so "compressed"
   // subscribes to <image>/compressed through the plugin.
   const image_transport::TransportHints hints(params_.image_transport, ros::TransportHints(), pnh);
-  left_sub_.subscribe(*it_, "left/image_raw", q, hints);
-  right_sub_.subscribe(*it_, "right/image_raw", q, hints);
+  try {
+    left_sub_.subscribe(*it_, "left/image_raw", q, hints);
+    right_sub_.subscribe(*it_, "right/image_raw", q, hints);
+  } catch (const std::exception& ex) {
+    // pluginlib throws when the transport plugin is not installed (Debian
+    // ships only "raw"; "compressed" needs compressed_image_transport).
+    NODELET_FATAL("cannot subscribe with image transport '%s': %s", params_.image_transport.c_str(), ex.what());
+    diag_.setFatal("image transport '" + params_.image_transport + "' unavailable: " + ex.what());
+    left_sub_.unsubscribe();
+    right_sub_.unsubscribe();
+    return;
+  }
   left_info_sub_.subscribe(nh, "left/camera_info", q);
   right_info_sub_.subscribe(nh, "right/camera_info", q);
   if (params_.approximate_sync) {

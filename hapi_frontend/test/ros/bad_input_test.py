@@ -219,6 +219,10 @@ class BadInputTest(unittest.TestCase):
         self.assertEqual(bad.level, DiagnosticStatus.ERROR)
         self.assertIn("invalid parameters", bad.message)
         self.assertIn("detector", bad.message)
+        nt = self.status("stereo_frontend_no_transport: stereo front end")
+        self.assertIsNotNone(nt, "no diagnostics from the instance without transport plugin")
+        self.assertEqual(nt.level, DiagnosticStatus.ERROR)
+        self.assertIn("no_such_transport", nt.message)
 
 
 if __name__ == "__main__":
