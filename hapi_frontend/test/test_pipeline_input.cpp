@@ -83,3 +83,25 @@ TEST(StereoPipeline, BadImagesGiveReasonsNotExceptions) {
   EXPECT_TRUE(out.landmarks.empty());
   EXPECT_EQ(out.descriptors.rows, 0);
 }
+
+// use_gpu without a usable device (or without CUDA in the build) falls back
+// to the CPU path and says so through used_gpu; results are the CPU ones.
+TEST(StereoPipeline, GpuRequestFallsBackCleanly) {
+  PipelineParams p;
+  p.use_gpu = true;
+  StereoPipeline gpu(p);
+  p.use_gpu = false;
+  StereoPipeline cpu(p);
+  ASSERT_EQ(gpu.setCalibration(calib(0), calib(-15)), "");
+  ASSERT_EQ(cpu.setCalibration(calib(0), calib(-15)), "");
+  cv::Mat img(240, 320, CV_8UC1);
+  cv::randu(img, 0, 255);
+  cv::Mat right = img.clone();
+  img(cv::Rect(8, 0, 312, 240)).copyTo(right(cv::Rect(0, 0, 312, 240)));  // 8 px disparity
+  StereoFrameResult a, b;
+  ASSERT_EQ(gpu.process(img, right, cv::Mat(), &a), "");
+  ASSERT_EQ(cpu.process(img, right, cv::Mat(), &b), "");
+  ASSERT_EQ(a.landmarks.size(), b.landmarks.size());
+  for (size_t i = 0; i < a.landmarks.size(); ++i) EXPECT_EQ(a.landmarks[i].position, b.landmarks[i].position);
+  if (!a.used_gpu) SUCCEED() << "no CUDA device: CPU fallback";
+}

@@ -5,6 +5,9 @@
 #include "hapi_frontend/features.hpp"
 #include "hapi_frontend/stereo_match_core.hpp"
 
+#include <memory>
+#include <string>
+
 namespace hapi_frontend {
 
 MatchCoreParams toMatchCoreParams(const StereoMatchParams& p);
@@ -18,5 +21,11 @@ class CpuStereoMatcher : public StereoMatcher {
                                  const Eigen::Matrix3d& F, const StereoMatchParams& params) override;
   std::string name() const override { return "cpu_bruteforce_hamming"; }
 };
+
+// use_gpu: the CUDA matcher (StereoMatchCuda, same output as the CPU one) when
+// the library is built with CUDA and a device is usable, else the CPU matcher.
+// A CUDA runtime error during match() falls back to the CPU core for good.
+// status (optional) says which one and why.
+std::unique_ptr<StereoMatcher> makeStereoMatcher(bool use_gpu, std::string* status = nullptr);
 
 }  // namespace hapi_frontend

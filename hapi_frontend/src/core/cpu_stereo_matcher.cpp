@@ -1,5 +1,12 @@
 #include "hapi_frontend/cpu_stereo_matcher.hpp"
 
+#ifdef HAPI_FRONTEND_WITH_CUDA
+#include "hapi_frontend/cuda/orb_cuda.hpp"
+#include "hapi_frontend/cuda/stereo_match_cuda.hpp"
+#endif
+
+#include <stdexcept>
+
 namespace hapi_frontend {
 
 MatchCoreParams toMatchCoreParams(const StereoMatchParams& p) {
@@ -27,25 +34,89 @@ bool flatten(const FeatureSet& fs, const std::vector<Eigen::Vector2d>& pts, std:
   *desc = fs.descriptors.isContinuous() ? fs.descriptors : fs.descriptors.clone();
   return true;
 }
+
+// Shared by the CPU and CUDA adapters: validated flat inputs for the core.
+struct FlatInputs {
+  std::vector<float> xl, xr;
+  cv::Mat dl, dr;
+  double f[9];
+  bool ok = false;
+};
+FlatInputs makeFlat(const FeatureSet& left, const std::vector<Eigen::Vector2d>& left_undist, const FeatureSet& right,
+                    const std::vector<Eigen::Vector2d>& right_undist, const Eigen::Matrix3d& F) {
+  FlatInputs in;
+  if (!flatten(left, left_undist, &in.xl, &in.dl) || !flatten(right, right_undist, &in.xr, &in.dr)) return in;
+  if (in.dl.rows == 0 || in.dr.rows == 0 || in.dl.cols != in.dr.cols) return in;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) in.f[3 * r + c] = F(r, c);
+  in.ok = true;
+  return in;
+}
+
+std::vector<StereoMatch> toStereoMatches(const std::vector<MatchCoreResult>& m) {
+  std::vector<StereoMatch> out;
+  out.reserve(m.size());
+  for (const auto& r : m) out.push_back({r.left, r.right, r.distance});
+  return out;
+}
 }  // namespace
 
 std::vector<StereoMatch> CpuStereoMatcher::match(const FeatureSet& left, const std::vector<Eigen::Vector2d>& left_undist,
                                                  const FeatureSet& right,
                                                  const std::vector<Eigen::Vector2d>& right_undist,
                                                  const Eigen::Matrix3d& F, const StereoMatchParams& params) {
-  std::vector<StereoMatch> out;
-  std::vector<float> xl, xr;
-  cv::Mat dl, dr;
-  if (!flatten(left, left_undist, &xl, &dl) || !flatten(right, right_undist, &xr, &dr)) return out;
-  if (dl.rows == 0 || dr.rows == 0 || dl.cols != dr.cols) return out;
-  double f[9];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) f[3 * r + c] = F(r, c);
-  const auto m = stereo_match_core(dl.data, xl.data(), dl.rows, dr.data, xr.data(), dr.rows, dl.cols, f,
-                                   toMatchCoreParams(params));
-  out.reserve(m.size());
-  for (const auto& r : m) out.push_back({r.left, r.right, r.distance});
-  return out;
+  const FlatInputs in = makeFlat(left, left_undist, right, right_undist, F);
+  if (!in.ok) return {};
+  return toStereoMatches(stereo_match_core(in.dl.data, in.xl.data(), in.dl.rows, in.dr.data, in.xr.data(),
+                                           in.dr.rows, in.dl.cols, in.f, toMatchCoreParams(params)));
+}
+
+#ifdef HAPI_FRONTEND_WITH_CUDA
+namespace {
+class CudaStereoMatcher : public StereoMatcher {
+ public:
+  std::vector<StereoMatch> match(const FeatureSet& left, const std::vector<Eigen::Vector2d>& left_undist,
+                                 const FeatureSet& right, const std::vector<Eigen::Vector2d>& right_undist,
+                                 const Eigen::Matrix3d& F, const StereoMatchParams& params) override {
+    if (gpu_) {
+      const FlatInputs in = makeFlat(left, left_undist, right, right_undist, F);
+      if (!in.ok) return {};
+      try {
+        return toStereoMatches(gpu_->match(in.dl.data, in.xl.data(), in.dl.rows, in.dr.data, in.xr.data(),
+                                           in.dr.rows, in.dl.cols, in.f, toMatchCoreParams(params)));
+      } catch (const std::runtime_error&) {
+        gpu_.reset();  // same results from the CPU core from now on
+      }
+    }
+    return cpu_.match(left, left_undist, right, right_undist, F, params);
+  }
+  std::string name() const override { return gpu_ ? "cuda_bruteforce_hamming" : cpu_.name(); }
+  std::unique_ptr<StereoMatchCuda> gpu_ = std::make_unique<StereoMatchCuda>();
+
+ private:
+  CpuStereoMatcher cpu_;
+};
+}  // namespace
+#endif
+
+std::unique_ptr<StereoMatcher> makeStereoMatcher(bool use_gpu, std::string* status) {
+  std::string st = use_gpu ? "built without CUDA, CPU matcher" : "CPU matcher";
+#ifdef HAPI_FRONTEND_WITH_CUDA
+  std::string info;
+  if (use_gpu && cudaDeviceAvailable(&info)) {
+    try {
+      auto m = std::make_unique<CudaStereoMatcher>();
+      if (status) *status = "CUDA matcher on " + info;
+      return m;
+    } catch (const std::exception& e) {
+      st = std::string("CUDA matcher failed (") + e.what() + "), CPU matcher";
+    }
+  } else if (use_gpu) {
+    st = "no usable CUDA device (" + info + "), CPU matcher";
+  }
+#endif
+  if (status) *status = st;
+  return std::make_unique<CpuStereoMatcher>();
 }
 
 }  // namespace hapi_frontend

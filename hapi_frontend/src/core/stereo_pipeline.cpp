@@ -49,7 +49,8 @@ std::string PipelineParams::validate() const {
 struct StereoPipeline::Impl {
   PipelineParams p;
   std::unique_ptr<FeatureExtractor> extractor;
-  CpuStereoMatcher matcher;
+  std::unique_ptr<StereoMatcher> matcher;
+  std::string matcher_status;
   bool calibrated = false;
   CameraCalib calib_l, calib_r;
   std::optional<CameraModel> cam_l, cam_r;
@@ -72,6 +73,9 @@ StereoPipeline::StereoPipeline(const PipelineParams& params) : impl_(new Impl) {
   } else {
     impl_->extractor = std::make_unique<AkazeExtractor>();
   }
+  // The GPU matcher only pays off next to the GPU ORB (descriptors already
+  // produced there); AKAZE always matches on the CPU.
+  impl_->matcher = makeStereoMatcher(params.use_gpu && params.detector == "orb", &impl_->matcher_status);
 }
 
 StereoPipeline::~StereoPipeline() = default;
@@ -186,8 +190,9 @@ std::string StereoPipeline::process(const cv::Mat& left_in, const cv::Mat& right
     out->times.undistort = msSince(t0);
     // --- match
     t0 = Clock::now();
-    std::vector<StereoMatch> matches = m.matcher.match(fl, und_l, fr, und_r, m.F, p.match);
+    std::vector<StereoMatch> matches = m.matcher->match(fl, und_l, fr, und_r, m.F, p.match);
     out->times.match = msSince(t0);
+    out->used_gpu = out->used_gpu || m.matcher->name().rfind("cuda", 0) == 0;
     out->n_matches = static_cast<int>(matches.size());
     // --- N strongest + triangulate. Strength = left response; ties keep the
     // matcher's order (left index ascending), so the result is deterministic.
