@@ -201,7 +201,8 @@ int main(int argc, char** argv) {
         r.note = err;
         rows.push_back(r);
       } else {
-        rows.push_back(run(b->name(), std::move(b), K, o.iters, o.warmup, o));
+        const std::string name = b->name();  // before the move (argument order is unspecified)
+        rows.push_back(run(name, std::move(b), K, o.iters, o.warmup, o));
       }
 #endif
     }
