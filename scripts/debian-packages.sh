@@ -8,6 +8,7 @@ HAPI_DEBIAN_PACKAGES=(
   libimage-transport-dev image-transport-tools libcv-bridge-dev libimage-geometry-dev
   libmessage-filters-dev librosbag-dev python3-rosbag
   librostest-dev python3-rostest
+  python3-rosdep2  # offline rosdep view for rospkg-based tools (scripts/rosdep_offline.sh)
   libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libdiagnostic-msgs-dev
   libstd-srvs-dev python3-std-srvs libdiagnostic-updater-dev python3-diagnostic-updater
   libopencv-dev libeigen3-dev libgtest-dev googletest

@@ -55,4 +55,7 @@ catkin_make -j"$JOBS" \
   -DCMAKE_BUILD_TYPE=Release \
   -DCATKIN_ENABLE_TESTING=ON \
   ${HAPI_CMAKE_ARGS:-}
+# Offline rosdep view where the tests and run scripts keep ROS_HOME (see
+# rosdep_offline.sh for why `rosrun nodelet declared_nodelets` needs it).
+ROS_HOME="${ROS_HOME:-$WS/ros_home}" bash "$REPO/scripts/rosdep_offline.sh"
 echo "$WS"

@@ -64,7 +64,9 @@ TEST(PackageLayout, RosmsgShowsStereoLandmarks) {
 
 // Every nodelet a package exports in its nodelet_plugins.xml must be listed by
 // `rosrun nodelet declared_nodelets` (pluginlib crawls ROS_PACKAGE_PATH, so
-// this fails if the nested packages are invisible).
+// this fails if the nested packages are invisible). The Python tool resolves
+// dependencies through rospkg, which needs a rosdep view: scripts/setup.sh
+// creates an offline one in $ROS_HOME (scripts/rosdep_offline.sh).
 TEST(PackageLayout, DeclaredNodeletsListOurNodelets) {
   const CommandResult r = runCommand("rosrun nodelet declared_nodelets");
   ASSERT_EQ(r.status, 0) << r.output;
@@ -75,7 +77,9 @@ TEST(PackageLayout, DeclaredNodeletsListOurNodelets) {
     for (std::sregex_iterator it(xml.begin(), xml.end(), name_re), end; it != end; ++it) {
       const std::string name = (*it)[1];
       ++exported;
-      EXPECT_NE(r.output.find(name), std::string::npos) << name << " not declared:\n" << r.output;
+      EXPECT_NE(r.output.find(name), std::string::npos)
+          << name << " not declared (rospkg needs a rosdep view in $ROS_HOME/rosdep: scripts/rosdep_offline.sh):\n"
+          << r.output;
     }
   }
   if (exported == 0) GTEST_SKIP() << "no package exports a nodelet yet";
