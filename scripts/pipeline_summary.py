@@ -20,7 +20,7 @@ import sys
 import yaml
 
 COUNTER_RE = re.compile(r"processed|updates|frames", re.IGNORECASE)
-TIME_RE = re.compile(r"^time\b.*\[ms\]$|\[ms\]$", re.IGNORECASE)
+TIME_RE = re.compile(r"\[ms\]$|_ms$", re.IGNORECASE)  # "time match [ms]", "t_update_ms"
 
 
 def to_float(s):

@@ -40,7 +40,10 @@ fi
 # Everything the run needs, checked up front so a missing piece is named
 # instead of surfacing as a silent empty result.
 missing=()
-declared="$(rosrun nodelet declared_nodelets 2>/dev/null || true)"
+# Declared nodelets as pluginlib sees them (rospack, C++): the Python
+# `rosrun nodelet declared_nodelets` lists nothing without an initialised rosdep.
+declared="$(rospack plugins --attrib=plugin nodelet 2>/dev/null | while read -r _ xml; do
+  [ -f "$xml" ] && sed -nE 's/.*<class[^>]* name="([^"]+)".*/\1/p' "$xml"; done || true)"
 for n in hapi_frontend/StereoFrontendNodelet hapi_eskf/EskfNodelet; do
   grep -qx "$n" <<<"$declared" || missing+=("nodelet $n (not declared/built)")
 done
