@@ -76,22 +76,3 @@ function(hapi_add_core_gtest name)
     add_test(NAME ${name} COMMAND ${name})
   endif()
 endfunction()
-
-# The package folders that make up a package's architecture, in build order:
-# src/cuda first (only with CUDA; the core library adds its objects), then
-# src/core, test, bench, and with catkin the ROS glue in src/ros. A folder is
-# added once it has a CMakeLists.txt.
-function(hapi_add_package_folders)
-  set(subs src/cuda src/core test bench)
-  if(catkin_FOUND)
-    list(APPEND subs src/ros)
-  endif()
-  foreach(sub ${subs})
-    if(sub STREQUAL "src/cuda" AND NOT HAPI_CUDA_FOUND)
-      continue()
-    endif()
-    if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${sub}/CMakeLists.txt)
-      add_subdirectory(${sub})
-    endif()
-  endforeach()
-endfunction()
