@@ -62,10 +62,13 @@ struct OrbCudaCore::Impl {
       throw std::invalid_argument("OrbCudaCore: fast_threshold must be in [0, 254]");
     HAPI_CUDA_CHECK(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking));
     for (auto& e : ev) HAPI_CUDA_CHECK(cudaEventCreate(&e));
-    orb_cuda::uploadUmax(orb_umax());
     const size_t pat_bytes = static_cast<size_t>(kOrbAngleBins) * 256 * 4;
     d_patterns.reserve(pat_bytes);
-    HAPI_CUDA_CHECK(cudaMemcpy(d_patterns.get(), orb_rotated_patterns(), pat_bytes, cudaMemcpyHostToDevice));
+    // On our own stream and synchronised: a plain cudaMemcpy runs on the legacy
+    // stream, which a non-blocking stream does not wait for.
+    HAPI_CUDA_CHECK(
+        cudaMemcpyAsync(d_patterns.get(), orb_rotated_patterns(), pat_bytes, cudaMemcpyHostToDevice, stream));
+    HAPI_CUDA_CHECK(cudaStreamSynchronize(stream));
   }
 
   ~Impl() {
@@ -141,9 +144,14 @@ struct OrbCudaCore::Impl {
       lv[l].img = d_img.get() + level_off[l];
       lv[l].smooth = d_smooth.get() + level_off[l];
     }
+    // Pageable sources: copy on our stream and wait, so the kernels of this
+    // (non-blocking) stream see the tables and the host vectors may die.
     if (!tables.empty())
-      HAPI_CUDA_CHECK(cudaMemcpy(d_tables.get(), tables.data(), tables.size() * sizeof(int), cudaMemcpyHostToDevice));
-    HAPI_CUDA_CHECK(cudaMemcpy(d_levels.get(), lv.data(), n_levels * sizeof(LevelDev), cudaMemcpyHostToDevice));
+      HAPI_CUDA_CHECK(cudaMemcpyAsync(d_tables.get(), tables.data(), tables.size() * sizeof(int), cudaMemcpyHostToDevice,
+                                      stream));
+    HAPI_CUDA_CHECK(
+        cudaMemcpyAsync(d_levels.get(), lv.data(), n_levels * sizeof(LevelDev), cudaMemcpyHostToDevice, stream));
+    HAPI_CUDA_CHECK(cudaStreamSynchronize(stream));
     width = w;
     height = h;
   }

@@ -15,11 +15,18 @@ namespace orb_cuda {
 
 namespace {
 
-__constant__ int c_umax[kOrbHalfPatch + 1];
-
-// FAST-9 circle of radius 3, clockwise from the top (same order as the CPU).
-__constant__ int c_circle_dx[16] = {0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3, -3, -3, -2, -1};
-__constant__ int c_circle_dy[16] = {-3, -3, -2, -1, 0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3};
+// Small tables travel as kernel parameters (by value): no __constant__
+// symbols whose initialisation depends on module loading.
+// FAST-9 circle of radius 3, clockwise from the top (same order as the CPU),
+// as row-major offsets for one level width.
+struct CircleOffsets {
+  int off[16];
+};
+struct Umax {
+  int u[kOrbHalfPatch + 1];
+};
+const int kCircleDx[16] = {0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3, -3, -3, -2, -1};
+const int kCircleDy[16] = {-3, -3, -2, -1, 0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3};
 
 __global__ void resizeKernel(const uint8_t* __restrict__ src, int sw, int sh, uint8_t* __restrict__ dst, int w, int h,
                              const int* __restrict__ xi, const int* __restrict__ xw, const int* __restrict__ yi,
@@ -55,7 +62,8 @@ __global__ void smoothColsKernel(const uint16_t* __restrict__ tmp, uint8_t* __re
 
 // Score on [edge-1, w-edge] x [edge-1, h-edge] (inclusive), zero elsewhere,
 // exactly like the CPU (the NMS reads one pixel beyond its own range).
-__global__ void fastKernel(const uint8_t* __restrict__ img, uint8_t* __restrict__ score, int w, int h, int t, int edge) {
+__global__ void fastKernel(const uint8_t* __restrict__ img, uint8_t* __restrict__ score, int w, int h, int t, int edge,
+                           CircleOffsets circle) {
   const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
   if (x >= w || y >= h) return;
   int best = 0;
@@ -65,24 +73,33 @@ __global__ void fastKernel(const uint8_t* __restrict__ img, uint8_t* __restrict_
     int nb = 0, nd = 0;
 #pragma unroll
     for (int i = 0; i < 16; i += 4) {
-      const int v = p[c_circle_dy[i] * w + c_circle_dx[i]];
+      const int v = p[circle.off[i]];
       nb += v > c + t;
       nd += v < c - t;
     }
     if (nb >= 2 || nd >= 2) {
-      int d[16];
+      // Same value as the CPU's max_k max(min_arc d, -max_arc d), written
+      // without negating a max: ptxas (CUDA 13.0, sm_90, -O3) fused
+      // max(mn, -mx) into one min/max instruction that dropped the negation,
+      // so the score became the largest brighter difference (seen on the H100:
+      // GPU score 126 where the CPU and a brute-force check give 40).
+      // -max_arc(p - c) == min_arc(c - p): two min chains, no neg.
+      int bright[16], dark[16];
 #pragma unroll
-      for (int i = 0; i < 16; ++i) d[i] = p[c_circle_dy[i] * w + c_circle_dx[i]] - c;
+      for (int i = 0; i < 16; ++i) {
+        const int v = p[circle.off[i]];
+        bright[i] = v - c;
+        dark[i] = c - v;
+      }
 #pragma unroll
       for (int k = 0; k < 16; ++k) {
-        int mn = 255, mx = -255;
+        int mb = 255, md = 255;
 #pragma unroll
         for (int j = 0; j < 9; ++j) {
-          const int v = d[(k + j) & 15];
-          mn = min(mn, v);
-          mx = max(mx, v);
+          mb = min(mb, bright[(k + j) & 15]);
+          md = min(md, dark[(k + j) & 15]);
         }
-        best = max(best, max(mn, -mx));
+        best = max(best, max(mb, md));
       }
       if (best <= t) best = 0;
     } else {
@@ -112,7 +129,7 @@ __global__ void nmsKernel(const uint8_t* __restrict__ score, int w, int h, int e
   const int leader = __ffs(mask) - 1;
   int base = 0;
   if (lane == leader) base = atomicAdd(count, __popc(mask));
-  base = __shfl_sync(mask, base, leader);
+  base = __shfl_sync(0xffffffffu, base, leader);  // every lane calls it: full mask
   if (is_max) {
     const int pos = base + __popc(mask & ((1u << lane) - 1u));
     keys[pos] = level_bits | (static_cast<unsigned long long>(255 - v) << 40) |
@@ -131,7 +148,7 @@ __device__ int angleBin(long long m10, long long m01, double rad2deg) {
 
 __global__ void describeKernel(const LevelDev* __restrict__ levels, int n_levels, const int* __restrict__ counts,
                                const unsigned long long* __restrict__ sorted, const int8_t* __restrict__ rotated,
-                               int quota_total, double rad2deg, KeypointDev* __restrict__ out_kp,
+                               int quota_total, double rad2deg, Umax umax, KeypointDev* __restrict__ out_kp,
                                uint8_t* __restrict__ out_desc) {
   const int slot = static_cast<int>((blockIdx.x * blockDim.x + threadIdx.x) >> 5);
   const int lane = threadIdx.x & 31;
@@ -155,7 +172,7 @@ __global__ void describeKernel(const LevelDev* __restrict__ levels, int n_levels
   long long m10 = 0, m01 = 0;
   if (lane < 2 * kOrbHalfPatch + 1) {
     const int v = lane - kOrbHalfPatch;
-    const int um = c_umax[v < 0 ? -v : v];
+    const int um = umax.u[v < 0 ? -v : v];
     const uint8_t* r = lv.img + static_cast<size_t>(ly + v) * W + lx;
     int rs = 0, rx = 0;
     for (int u = -um; u <= um; ++u) {
@@ -200,10 +217,6 @@ dim3 grid2d(int w, int h, dim3 b) { return dim3((w + b.x - 1) / b.x, (h + b.y - 
 
 }  // namespace
 
-void uploadUmax(const int* umax16) {
-  HAPI_CUDA_CHECK(cudaMemcpyToSymbol(c_umax, umax16, sizeof(int) * (kOrbHalfPatch + 1)));
-}
-
 void launchResize(const uint8_t* src, int sw, int sh, uint8_t* dst, int w, int h, const int* xi, const int* xw,
                   const int* yi, const int* yw, cudaStream_t s) {
   const dim3 b(32, 8);
@@ -221,7 +234,9 @@ void launchSmooth(const uint8_t* img, uint16_t* tmp, uint8_t* out, int w, int h,
 void launchFastNms(const uint8_t* img, uint8_t* score, int w, int h, int threshold, int edge, int level,
                    unsigned long long* keys, int* count, cudaStream_t s) {
   const dim3 b(32, 8);
-  fastKernel<<<grid2d(w, h, b), b, 0, s>>>(img, score, w, h, threshold, edge);
+  CircleOffsets circle;
+  for (int i = 0; i < 16; ++i) circle.off[i] = kCircleDy[i] * w + kCircleDx[i];
+  fastKernel<<<grid2d(w, h, b), b, 0, s>>>(img, score, w, h, threshold, edge, circle);
   const int rw = w - 2 * edge, rh = h - 2 * edge;
   if (rw > 0 && rh > 0) {
     nmsKernel<<<grid2d(rw, rh, b), b, 0, s>>>(score, w, h, edge, static_cast<unsigned long long>(level) << kRankKeyBits,
@@ -246,10 +261,13 @@ void launchDescribe(const LevelDev* levels, int n_levels, const int* counts, con
                     const int8_t* rotated_patterns, int quota_total, double rad2deg, KeypointDev* out_kp,
                     uint8_t* out_desc, cudaStream_t s) {
   if (quota_total <= 0) return;
+  Umax umax;
+  const int* um = orb_umax();  // the CPU table itself
+  for (int v = 0; v <= kOrbHalfPatch; ++v) umax.u[v] = um[v];
   const int threads = 128;  // 4 warps = 4 keypoints per block
   const int blocks = (quota_total * 32 + threads - 1) / threads;
   describeKernel<<<blocks, threads, 0, s>>>(levels, n_levels, counts, sorted, rotated_patterns, quota_total, rad2deg,
-                                            out_kp, out_desc);
+                                            umax, out_kp, out_desc);
   HAPI_CUDA_CHECK(cudaGetLastError());
 }
 

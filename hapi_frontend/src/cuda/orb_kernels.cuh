@@ -29,8 +29,6 @@ struct KeypointDev {
 // orders all levels at once, level-major, rank order inside a level.
 constexpr int kRankKeyBits = 48;
 
-void uploadUmax(const int* umax16);
-
 void launchResize(const uint8_t* src, int sw, int sh, uint8_t* dst, int w, int h, const int* xi, const int* xw,
                   const int* yi, const int* yw, cudaStream_t s);
 void launchSmooth(const uint8_t* img, uint16_t* tmp, uint8_t* out, int w, int h, cudaStream_t s);

@@ -5,7 +5,11 @@
 #include "hapi_frontend/orb_core.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
+#include <map>
+#include <string>
+#include <tuple>
 
 namespace hapi_frontend {
 namespace gpu_test {
@@ -37,6 +41,47 @@ inline OrbIdentity compareOrb(const OrbResult& ref, const OrbResult& test) {
       ++r.identical;
   }
   return r;
+}
+
+// Diagnosis of a mismatch: pairs keypoints by (level, lx, ly) and counts
+// which fields differ; returns a one-line summary plus the first differences.
+inline std::string diagnoseOrb(const OrbResult& ref, const OrbResult& test) {
+  std::map<std::tuple<int, int, int>, int> pos;
+  for (size_t i = 0; i < test.keypoints.size(); ++i) {
+    const OrbKeypoint& k = test.keypoints[i];
+    pos[std::make_tuple(k.level, k.lx, k.ly)] = static_cast<int>(i);
+  }
+  int missing = 0, order = 0, score = 0, angle = 0, desc = 0, fl = 0;
+  std::string first;
+  for (size_t i = 0; i < ref.keypoints.size(); ++i) {
+    const OrbKeypoint& a = ref.keypoints[i];
+    const auto it = pos.find(std::make_tuple(a.level, a.lx, a.ly));
+    if (it == pos.end()) {
+      ++missing;
+      continue;
+    }
+    const OrbKeypoint& b = test.keypoints[it->second];
+    order += it->second != static_cast<int>(i);
+    score += a.score != b.score;
+    angle += a.angle_bin != b.angle_bin;
+    fl += a.x != b.x || a.y != b.y || a.size != b.size || a.angle != b.angle;
+    const bool dd = std::memcmp(&ref.descriptors[i * kOrbDescBytes], &test.descriptors[it->second * kOrbDescBytes],
+                                kOrbDescBytes) != 0;
+    desc += dd;
+    if ((dd || a.angle_bin != b.angle_bin || a.score != b.score) && first.size() < 600) {
+      char buf[200];
+      std::snprintf(buf, sizeof(buf), "\n  #%zu L%d (%d,%d) s%d/%d bin%d/%d desc0 %02x%02x%02x%02x/%02x%02x%02x%02x", i,
+                    a.level, a.lx, a.ly, a.score, b.score, a.angle_bin, b.angle_bin, ref.descriptors[i * 32],
+                    ref.descriptors[i * 32 + 1], ref.descriptors[i * 32 + 2], ref.descriptors[i * 32 + 3],
+                    test.descriptors[it->second * 32], test.descriptors[it->second * 32 + 1],
+                    test.descriptors[it->second * 32 + 2], test.descriptors[it->second * 32 + 3]);
+      first += buf;
+    }
+  }
+  char head[200];
+  std::snprintf(head, sizeof(head), "ref %zu test %zu: missing %d, other index %d, score %d, angle %d, float %d, desc %d",
+                ref.keypoints.size(), test.keypoints.size(), missing, order, score, angle, fl, desc);
+  return head + first;
 }
 
 }  // namespace gpu_test

@@ -54,6 +54,8 @@ OrbIdentity runFrames(const OrbParams& p, const std::vector<Frame>& frames, cons
     tot.identical += id.identical;
     EXPECT_EQ(id.n_ref, id.n_test) << label << " " << f.name;
     EXPECT_GE(id.percent(), 99.0) << label << " " << f.name;
+    if (id.identical != id.n_ref && tot.n_ref == id.n_ref)  // details for the first frame only
+      std::printf("[ diagnose ] %s %s: %s\n", label, f.name.c_str(), gpu_test::diagnoseOrb(a, b).c_str());
   }
   std::printf("[ identity ] %-34s %4zu frames  %7d CPU kps  %7d GPU kps  %7d identical = %.3f %%\n", label,
               frames.size(), tot.n_ref, tot.n_test, tot.identical, tot.percent());
