@@ -45,6 +45,15 @@ constexpr double kMiB = 1024.0 * 1024.0;
 }  // namespace
 
 EskfNodelet::~EskfNodelet() {
+  // Stop every entry point first: timers and callbacks use members (updater_,
+  // publishers) that are destroyed before them in declaration order.
+  map_timer_.stop();
+  diag_timer_.stop();
+  landmarks_sub_.shutdown();
+  imu_sub_.shutdown();
+  reset_srv_.shutdown();
+  save_map_srv_.shutdown();
+  save_traj_srv_.shutdown();
   stop_ = true;
   mailbox_.close();
   snapshot_cv_.notify_all();

@@ -27,6 +27,13 @@ std::string sizeText(const cv::Mat& m) { return std::to_string(m.cols) + "x" + s
 }  // namespace
 
 StereoFrontendNodelet::~StereoFrontendNodelet() {
+  // Stop the inputs first: unsubscribing waits for running callbacks, so
+  // none can touch the mailbox while the members below are destroyed.
+  diag_timer_.stop();
+  left_sub_.unsubscribe();
+  right_sub_.unsubscribe();
+  left_info_sub_.unsubscribe();
+  right_info_sub_.unsubscribe();
   {
     std::lock_guard<std::mutex> lock(mailbox_mutex_);
     stop_ = true;
