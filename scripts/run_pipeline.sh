@@ -96,12 +96,31 @@ for _ in $(seq 100); do
 done
 master_up || die "roscore did not come up on port $PORT"
 
-set +e
+# roslaunch runs in the background and we `wait` for it, so that an INT or
+# TERM sent to this script (Ctrl-C, a test harness stopping it) is handled at
+# once: forwarded to roslaunch through `timeout`, which shuts the nodes down
+# cleanly before the master goes. (A script started in the background ignores
+# INT, so harnesses send TERM.)
+LAUNCH_PID=""
+stop_launch() {
+  echo "[pipeline] interrupted: stopping the launch" >&2
+  if [ -n "$LAUNCH_PID" ]; then
+    kill -INT "$LAUNCH_PID" 2>/dev/null || true
+    wait "$LAUNCH_PID" 2>/dev/null || true
+  fi
+  exit 130
+}
+trap stop_launch INT TERM
 timeout --signal=INT --kill-after=30 "$LIMIT" \
   roslaunch --wait hapi_slam replay.launch bag:="$BAG" evaluate:=true eval_output:="$REPORT" \
-    record_diagnostics:="$DIAG" rviz:=false output:=log ${HAPI_REPLAY_ARGS:-} 2>&1 | tee "$LOG"
-rc=${PIPESTATUS[0]}
+    record_diagnostics:="$DIAG" rviz:=false output:=log ${HAPI_REPLAY_ARGS:-} > >(trap "" INT; exec tee "$LOG") 2>&1 &
+LAUNCH_PID=$!
+set +e
+wait "$LAUNCH_PID"
+rc=$?
 set -e
+LAUNCH_PID=""
+trap - INT TERM
 [ "$rc" -eq 124 ] && echo "[pipeline] ERROR: run exceeded ${LIMIT} s and was stopped" >&2
 [ -s "$REPORT" ] || { echo "[pipeline] ERROR: the evaluator wrote no report (roslaunch exit $rc; log: $LOG)" >&2; exit 1; }
 [ -f "$DIAG" ] || echo "[pipeline] WARNING: no diagnostics bag ($DIAG)" >&2
