@@ -6,7 +6,7 @@
 //  * Identity of the GPU output with the CPU output on every frame.
 // Medians over all frames; prints a Markdown table for docs/BENCHMARKS.md.
 //   hapi_frontend_gpu_bench [--pairs 120] [--width 640] [--height 480]
-//                           [--features 200] [--dir PGM_FOLDER]
+//                           [--features 200] [--threshold 20] [--dir PGM_FOLDER]
 #include "hapi_frontend/cuda/orb_cuda.hpp"
 #include "hapi_frontend/cuda/stereo_match_cuda.hpp"
 #include "hapi_frontend/orb_core.hpp"
@@ -53,7 +53,7 @@ void row(const char* name, double cpu, double gpu) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int pairs = 120, width = 640, height = 480, features = 200;
+  int pairs = 120, width = 640, height = 480, features = 200, threshold = OrbParams().fast_threshold;
   std::string dir;
   for (int a = 1; a + 1 < argc; a += 2) {
     const std::string k = argv[a];
@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
     else if (k == "--width") width = std::atoi(argv[a + 1]);
     else if (k == "--height") height = std::atoi(argv[a + 1]);
     else if (k == "--features") features = std::atoi(argv[a + 1]);
+    else if (k == "--threshold") threshold = std::atoi(argv[a + 1]);
     else if (k == "--dir") dir = argv[a + 1];
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
@@ -99,11 +100,13 @@ int main(int argc, char** argv) {
     }
   }
   const int n_img = static_cast<int>(frames.size());
-  std::printf("device: %s\nframes: %d images (%dx%d, %s), ORB N=%d, 4 levels, scale 1.2, FAST t=20\n\n", info.c_str(),
-              n_img, frames[0].width, frames[0].height, dir.empty() ? "procedural stereo pairs" : dir.c_str(), features);
-
   OrbParams op;
   op.n_features = features;
+  op.fast_threshold = threshold;
+  std::printf("device: %s\nframes: %d images (%dx%d, %s), ORB N=%d, %d levels, scale %.1f, FAST t=%d\n\n", info.c_str(),
+              n_img, frames[0].width, frames[0].height, dir.empty() ? "procedural stereo pairs" : dir.c_str(), features,
+              op.n_levels, op.scale_factor, op.fast_threshold);
+
   OrbCpuCore cpu(op);
   OrbCudaCore gpu(op);
   gpu.setTiming(true);
