@@ -106,6 +106,7 @@ struct Row {
   std::string note;
   double assoc = 0, removal = 0, addition = 0, predict = 0, update = 0, total = 0, bookkeeping = 0;
   double mem_gb = 0;
+  double removal_gbps = 0;  // 2 x element size x moved elements / removal time
   int n_updated = 0;
 };
 
@@ -118,14 +119,14 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     r.note = "backend not created";
     return r;
   }
-  r.mem_gb = b->memoryBytes() / 1e9;
   Scenario sc(std::move(b), K, o.visible, o.fresh, 1234u + K);
   if (!sc.fill()) {
     r.note = "filling the pool failed";
     return r;
   }
   r.note.clear();
-  std::vector<double> a, rm, ad, pr, up, to, bk, nu;
+  std::vector<double> a, rm, ad, pr, up, to, bk, nu, bw;
+  const double elem = (name == "cuda-fp32") ? 4.0 : 8.0;
   bool ok = true;
   for (int i = 0; i < warmup + iters; ++i) {
     const StageTimes t = sc.iterate();
@@ -143,9 +144,11 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     to.push_back(t.total);
     bk.push_back(t.removal + t.addition);
     nu.push_back(t.n_updated);
+    if (t.removal > 0) bw.push_back(2.0 * elem * t.removal_moved / (t.removal * 1e-3) / 1e9);
   }
   r.ok = ok;
   r.iters = iters;
+  r.mem_gb = sc.backend().memoryBytes() / 1e9;  // after the run: work buffers have grown to their size
   r.assoc = median(a);
   r.removal = median(rm);
   r.addition = median(ad);
@@ -154,6 +157,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   r.total = median(to);
   r.bookkeeping = median(bk);
   r.n_updated = static_cast<int>(median(nu));
+  r.removal_gbps = median(bw);
   return r;
 }
 
@@ -213,15 +217,15 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\n| backend | K | iters | association | removal | addition | predict | update | total | bookkeeping "
-              "(rem+add) | memory GB | L used |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "(rem+add) | memory GB | L used | removal GB/s |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     if (!r.ok) {
       std::printf("| %s | %d | - | %s |\n", r.backend.c_str(), r.K, r.note.c_str());
       continue;
     }
-    std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d |\n", r.backend.c_str(),
-                r.K, r.iters, r.assoc, r.removal, r.addition, r.predict, r.update, r.total, r.bookkeeping, r.mem_gb,
-                r.n_updated);
+    std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d | %.0f |\n",
+                r.backend.c_str(), r.K, r.iters, r.assoc, r.removal, r.addition, r.predict, r.update, r.total,
+                r.bookkeeping, r.mem_gb, r.n_updated, r.removal_gbps);
   }
 
   // GPU/CPU ratios where both ran.

@@ -172,6 +172,11 @@ StageTimes Scenario::iterate() {
     last_seen_.erase(last_seen_.begin() + *it);
   }
   st.n_removed = n_evict;
+  if (!evict.empty()) {
+    // Target rows i >= max(j, r0) of every column j < n_new move.
+    const double nn = stateDim(K - n_evict), r0 = std::min<double>(landmarkRow(evict.front()), nn);
+    st.removal_moved = r0 * (nn - r0) + 0.5 * (nn - r0) * (nn - r0 + 1);
+  }
   st.removal = msSince(t0);
 
   // --- addition: the fresh measurements ---

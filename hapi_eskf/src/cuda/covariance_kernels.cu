@@ -18,7 +18,12 @@ __device__ __forceinline__ int landmarkRowDev(int slot) { return 12 + 3 * slot; 
 
 // One thread per (state row i, measurement j): reads the 9 columns of C that
 // H_j touches and writes 3 entries of P. Threads of a warp share j, so the H
-// loads are broadcasts and the C loads of the pose columns are coalesced.
+// loads are broadcasts and the C loads are coalesced along i: the pose columns
+// (i >= 6) and, for rows i >= l below the landmark's diagonal block, the
+// landmark columns. The landmark part of rows i < l lives in the UPPER
+// triangle, i.e. in row l..l+2 of column i (stride ld across the warp: one
+// 768 KB page per thread at K = 32000); gatherUpperKernel adds it with
+// column-local reads, so here it is left out.
 template <typename T>
 __global__ void gatherPHtKernel(const T* __restrict__ C, std::size_t ld, int n, const int* __restrict__ slots,
                                 const T* __restrict__ H, T* __restrict__ P, std::size_t ldP) {
@@ -30,7 +35,7 @@ __global__ void gatherPHtKernel(const T* __restrict__ C, std::size_t ld, int n, 
 #pragma unroll
   for (int c = 0; c < 6; ++c) v[c] = sym(C, ld, i, c);
 #pragma unroll
-  for (int c = 0; c < 3; ++c) v[6 + c] = sym(C, ld, i, l + c);
+  for (int c = 0; c < 3; ++c) v[6 + c] = i >= l ? sym(C, ld, i, l + c) : T(0);
   const T* h = H + 27 * j;
 #pragma unroll
   for (int r = 0; r < 3; ++r) {
@@ -40,6 +45,45 @@ __global__ void gatherPHtKernel(const T* __restrict__ C, std::size_t ld, int n, 
 #pragma unroll
     for (int c = 0; c < 3; ++c) acc += h[18 + 3 * r + c] * v[6 + c];
     P[i + static_cast<std::size_t>(3 * j + r) * ldP] = acc;
+  }
+}
+
+// P(i, 3j + r) += Hl_j(r, :) C(l_j .. l_j + 2, i) for rows i < l_j (run after
+// gatherPHtKernel). Tile of 32 rows i x 32 measurements j: first the lanes run
+// over j, so a warp reads 32 short runs inside ONE column i of C (page-local);
+// the products go through shared memory and are written with the lanes over
+// i (coalesced columns of P).
+constexpr int kTile = 32, kTileRows = 8;
+template <typename T>
+__global__ void gatherUpperKernel(const T* __restrict__ C, std::size_t ld, int n, const int* __restrict__ slots,
+                                  const T* __restrict__ H, int m, T* __restrict__ P, std::size_t ldP) {
+  __shared__ T tile[3][kTile][kTile + 1];
+  const int i0 = blockIdx.x * kTile, j0 = blockIdx.y * kTile;
+  const int tx = threadIdx.x, ty = threadIdx.y;
+  {
+    const int j = j0 + tx;
+    const int l = j < m ? landmarkRowDev(slots[j]) : 0;
+    const T* h = H + 27 * (j < m ? j : 0) + 18;
+    for (int ii = ty; ii < kTile; ii += kTileRows) {
+      const int i = i0 + ii;
+      T a[3] = {T(0), T(0), T(0)};
+      if (j < m && i < l && i < n) {
+        const T* col = C + static_cast<std::size_t>(i) * ld + l;  // C(l.., i), upper part of column l..
+        const T v0 = col[0], v1 = col[1], v2 = col[2];
+#pragma unroll
+        for (int r = 0; r < 3; ++r) a[r] = h[3 * r] * v0 + h[3 * r + 1] * v1 + h[3 * r + 2] * v2;
+      }
+#pragma unroll
+      for (int r = 0; r < 3; ++r) tile[r][tx][ii] = a[r];
+    }
+  }
+  __syncthreads();
+  const int i = i0 + tx;
+  for (int jj = ty; jj < kTile; jj += kTileRows) {
+    const int j = j0 + jj;
+    if (j >= m || i >= n || i >= landmarkRowDev(slots[j])) continue;
+#pragma unroll
+    for (int r = 0; r < 3; ++r) P[i + static_cast<std::size_t>(3 * j + r) * ldP] += tile[r][jj][tx];
   }
 }
 
@@ -172,19 +216,67 @@ __global__ void addNewNewKernel(T* __restrict__ C, std::size_t ld, int n_old, co
   C[n_old + a + static_cast<std::size_t>(n_old + b) * ld] = static_cast<T>(acc);
 }
 
+// Single in-place compaction pass (DESIGN.md "Removal"): target (i, j) of the
+// lower triangle receives source (old[i], old[j]), old[] increasing, so every
+// element moves up and/or left by at most 3 x (removed count). One block per
+// target column j walks its rows in chunks: load the chunk's sources into
+// registers, then store them. Hazards and why this order is safe:
+//  * inside column j (old[j] == j): a chunk reads rows >= its first row and
+//    writes only rows below the next chunk's first row, and the barrier
+//    between load and store keeps the block's own reads ahead of its writes;
+//  * across columns: location column j is read by exactly one target column
+//    j' = reader[j] <= j (old[j'] == j). Before storing rows [i0, i1) the block
+//    waits until j' has LOADED all its targets < i1 (progress[j'] >= i1); the
+//    targets that read rows < i1 of column j are exactly those (old[i] >= i).
+// Blocks take their column from an atomic ticket, so a block only ever waits
+// on a column whose block is already running: no deadlock whatever the order
+// in which the hardware schedules blocks. One read and one write per moved
+// element (the strip-and-workspace pass it replaces moved every element twice).
+constexpr int kCompactThreads = 256, kCompactPer = 8;
 template <typename T>
-__global__ void compactStripKernel(T* __restrict__ C, std::size_t ld, const int* __restrict__ old_of_new, int n_new,
-                                   int r0, int a0, int w, T* __restrict__ tmp, std::size_t ldT, bool gather) {
-  const int jj = blockIdx.y;
-  const int j = a0 + jj;
-  const int row_begin = max(j, r0);
-  const int i = row_begin + blockIdx.x * blockDim.x + threadIdx.x;
-  if (jj >= w || i >= n_new) return;
-  T* t = tmp + i + static_cast<std::size_t>(jj) * ldT;
-  if (gather) {
-    *t = C[old_of_new[i] + static_cast<std::size_t>(old_of_new[j]) * ld];
-  } else {
-    C[i + static_cast<std::size_t>(j) * ld] = *t;
+__global__ void __launch_bounds__(kCompactThreads) compactKernel(T* __restrict__ C, std::size_t ld,
+                                                                 const int* __restrict__ old_of_new,
+                                                                 const int* __restrict__ reader, int n_new, int r0,
+                                                                 int* progress, unsigned* ticket) {
+  __shared__ int s_col;
+  if (threadIdx.x == 0) s_col = static_cast<int>(atomicAdd(ticket, 1u));
+  __syncthreads();
+  const int j = s_col;
+  if (j >= n_new) return;
+  const int rd = reader[j];
+  const T* src = C + static_cast<std::size_t>(old_of_new[j]) * ld;
+  T* dst = C + static_cast<std::size_t>(j) * ld;
+  constexpr int kChunk = kCompactThreads * kCompactPer;
+  const int begin = max(j, r0);
+  if (begin >= n_new && threadIdx.x == 0) atomicExch(progress + j, n_new);
+  for (int i0 = begin; i0 < n_new; i0 += kChunk) {
+    const int i1 = min(i0 + kChunk, n_new);
+    T v[kCompactPer];
+#pragma unroll
+    for (int p = 0; p < kCompactPer; ++p) {
+      const int i = i0 + p * kCompactThreads + threadIdx.x;
+      v[p] = i < i1 ? src[old_of_new[i]] : T(0);
+    }
+    // Release: every thread fences its own loads (a barrier alone does not
+    // wait for other warps' loads in flight), then thread 0 raises the flag.
+    // Acquire: thread 0 waits for the reader and fences before the barrier
+    // that lets the block store.
+    __threadfence();
+    __syncthreads();
+    if (threadIdx.x == 0) {
+      __threadfence();
+      atomicExch(progress + j, i1);
+      if (rd >= 0 && rd != j) {
+        while (*reinterpret_cast<volatile int*>(progress + rd) < i1) __nanosleep(64);
+      }
+      __threadfence();
+    }
+    __syncthreads();
+#pragma unroll
+    for (int p = 0; p < kCompactPer; ++p) {
+      const int i = i0 + p * kCompactThreads + threadIdx.x;
+      if (i < i1) dst[i] = v[p];
+    }
   }
 }
 
@@ -197,6 +289,10 @@ cudaError_t launchGatherPHt(const T* C, std::size_t ld, int n, const int* slots,
                             std::size_t ldP, cudaStream_t stream) {
   if (n <= 0 || m <= 0) return cudaSuccess;
   gatherPHtKernel<T><<<dim3(blocksFor(n), m), kThreads, 0, stream>>>(C, ld, n, slots, H, P, ldP);
+  const cudaError_t e = cudaGetLastError();
+  if (e != cudaSuccess) return e;
+  gatherUpperKernel<T><<<dim3((n + kTile - 1) / kTile, (m + kTile - 1) / kTile), dim3(kTile, kTileRows), 0, stream>>>(
+      C, ld, n, slots, H, m, P, ldP);
   return cudaGetLastError();
 }
 
@@ -256,12 +352,13 @@ cudaError_t launchAddLandmarks(T* C, std::size_t ld, int n_old, const T* G, cons
 }
 
 template <typename T>
-cudaError_t launchCompactStrip(T* C, std::size_t ld, const int* old_of_new, int n_new, int r0, int a, int w,
-                               T* tmp, std::size_t ldT, bool gather, cudaStream_t stream) {
-  const int rows = n_new - (a > r0 ? a : r0);
-  if (rows <= 0 || w <= 0) return cudaSuccess;
-  compactStripKernel<T><<<dim3(blocksFor(rows), w), kThreads, 0, stream>>>(C, ld, old_of_new, n_new, r0, a, w, tmp,
-                                                                            ldT, gather);
+cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int* reader, int n_new, int r0,
+                          int* progress, unsigned* ticket, cudaStream_t stream) {
+  if (r0 >= n_new) return cudaSuccess;  // only the tail was removed: nothing moves
+  cudaError_t e = cudaMemsetAsync(progress, 0, sizeof(int) * static_cast<std::size_t>(n_new), stream);
+  if (e == cudaSuccess) e = cudaMemsetAsync(ticket, 0, sizeof(unsigned), stream);
+  if (e != cudaSuccess) return e;
+  compactKernel<T><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0, progress, ticket);
   return cudaGetLastError();
 }
 
@@ -275,8 +372,8 @@ cudaError_t launchCompactStrip(T* C, std::size_t ld, const int* old_of_new, int 
   template cudaError_t launchMarginals<T>(const T*, std::size_t, const int*, int, double*, cudaStream_t);             \
   template cudaError_t launchLandmarkBlocks<T>(const T*, std::size_t, int, double*, cudaStream_t);                    \
   template cudaError_t launchAddLandmarks<T>(T*, std::size_t, int, const T*, const T*, int, cudaStream_t);            \
-  template cudaError_t launchCompactStrip<T>(T*, std::size_t, const int*, int, int, int, int, T*, std::size_t, bool,  \
-                                             cudaStream_t);
+  template cudaError_t launchCompact<T>(T*, std::size_t, const int*, const int*, int, int, int*, unsigned*,          \
+                                        cudaStream_t);
 HAPI_INSTANTIATE(double)
 HAPI_INSTANTIATE(float)
 #undef HAPI_INSTANTIATE

@@ -252,12 +252,9 @@ class CudaBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  // Single compaction pass (DESIGN.md "Removal"). Every kept element moves to
-  // (new_i, new_j) <= (old_i, old_j), i.e. to a lower or equal column. Target
-  // columns are processed in strips [a, a + W) in increasing order: a strip
-  // reads only columns >= a (never written by earlier strips) into the
-  // workspace, then writes its own columns, so the in-place pass is race-free
-  // with O(n) extra memory and no per-landmark shifting.
+  // Single in-place compaction pass (DESIGN.md "Removal", launchCompact in
+  // kernels.cuh): every kept element of the lower triangle is read once and
+  // written once, no workspace, no per-landmark shifting.
   Status removeLandmarks(const std::vector<int>& slots) override {
     if (slots.empty()) return Status::kOk;
     const Status s = checkDistinctSlots(slots, K_);
@@ -267,33 +264,27 @@ class CudaBackend final : public CovarianceBackend {
     for (int sl : slots) removed[sl] = 1;
     const int K_new = K_ - static_cast<int>(slots.size());
     const int n_new = stateDim(K_new);
-    std::vector<int> old_of_new;
-    std::vector<int> keep;
-    old_of_new.reserve(n_new);
-    keep.reserve(K_new);
-    for (int i = 0; i < kPoseDim; ++i) old_of_new.push_back(i);
+    // ints_ layout: old_of_new | reader | progress | ticket | keep.
+    std::vector<int> h(3 * static_cast<std::size_t>(n_new) + 1 + K_new, -1);
+    int* old_of_new = h.data();
+    int* reader = h.data() + n_new;
+    int* keep = h.data() + 3 * static_cast<std::size_t>(n_new) + 1;
+    int idx = 0, kept = 0;
+    for (int i = 0; i < kPoseDim; ++i) old_of_new[idx++] = i;
     for (int k = 0; k < K_; ++k) {
       if (removed[k]) continue;
-      keep.push_back(k);
-      for (int r = 0; r < 3; ++r) old_of_new.push_back(landmarkRow(k) + r);
+      keep[kept++] = k;
+      for (int r = 0; r < 3; ++r) old_of_new[idx++] = landmarkRow(k) + r;
     }
+    for (int j = 0; j < n_new; ++j)
+      if (old_of_new[j] < n_new) reader[old_of_new[j]] = j;
     const int r0 = landmarkRow(*std::min_element(slots.begin(), slots.end()));
-    HAPI_CUDA_TRY(ints_.ensure(std::max<std::size_t>(old_of_new.size() + keep.size(), 1)));
-    int* d_map = ints_.get();
-    int* d_keep = ints_.get() + old_of_new.size();
-    HAPI_CUDA_TRY(cudaMemcpyAsync(d_map, old_of_new.data(), old_of_new.size() * sizeof(int), cudaMemcpyHostToDevice,
-                                  stream_));
-    if (!keep.empty()) {
-      HAPI_CUDA_TRY(cudaMemcpyAsync(d_keep, keep.data(), keep.size() * sizeof(int), cudaMemcpyHostToDevice, stream_));
-    }
-    if (r0 < n_new) {
-      for (int a = 0; a < n_new; a += work_cols_) {
-        const int w = std::min(work_cols_, n_new - a);
-        HAPI_CUDA_TRY(launchCompactStrip<T>(C_.get(), ld_, d_map, n_new, r0, a, w, work_.get(), ld_, true, stream_));
-        HAPI_CUDA_TRY(launchCompactStrip<T>(C_.get(), ld_, d_map, n_new, r0, a, w, work_.get(), ld_, false, stream_));
-      }
-    }
-    HAPI_CUDA_TRY(launchGatherDescriptors(desc_.get(), d_keep, K_new, D_, desc_tmp_.get(), stream_));
+    HAPI_CUDA_TRY(ints_.ensure(h.size()));
+    int* d = ints_.get();
+    HAPI_CUDA_TRY(cudaMemcpyAsync(d, h.data(), h.size() * sizeof(int), cudaMemcpyHostToDevice, stream_));
+    HAPI_CUDA_TRY(launchCompact<T>(C_.get(), ld_, d, d + n_new, n_new, r0, d + 2 * n_new,
+                                   reinterpret_cast<unsigned*>(d + 3 * n_new), stream_));
+    HAPI_CUDA_TRY(launchGatherDescriptors(desc_.get(), d + 3 * n_new + 1, K_new, D_, desc_tmp_.get(), stream_));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     desc_.swap(desc_tmp_);
     K_ = K_new;
@@ -383,8 +374,8 @@ class CudaBackend final : public CovarianceBackend {
  private:
   int n() const { return stateDim(K_); }
 
-  // The workspace holds P / A (n x 3m) during an update and one strip of the
-  // removal pass; it grows when an update has more than work_cols_ / 3 blocks.
+  // The workspace holds P / A (n x 3m) during an update; it grows when an
+  // update has more than work_cols_ / 3 blocks.
   cudaError_t ensureWork(int cols) {
     if (cols <= work_cols_) return cudaSuccess;
     const cudaError_t e = work_.ensure(ld_ * static_cast<std::size_t>(cols));

@@ -60,13 +60,14 @@ template <typename T>
 cudaError_t launchAddLandmarks(T* C, std::size_t ld, int n_old, const T* G, const T* Nz, int m,
                                cudaStream_t stream);
 
-// One strip of the single compaction pass: for target columns [a, a + w) and
-// target rows i >= max(j, r0), tmp(i, j - a) = C(old[i], old[j]) (gather = true)
-// or C(i, j) = tmp(i, j - a) (gather = false). See cuda_backend.cpp for why
-// the strip order makes the in-place pass race-free.
+// The single in-place compaction pass of a removal: for target columns j and
+// target rows i >= max(j, r0) of the lower triangle, C(i, j) = C(old[i], old[j])
+// (old_of_new increasing, length n_new). reader[c] = the target column j' with
+// old[j'] == c, or -1 (c < n_new). progress (n_new ints) and ticket are
+// scratch, zeroed here. See covariance_kernels.cu for why it is race-free.
 template <typename T>
-cudaError_t launchCompactStrip(T* C, std::size_t ld, const int* old_of_new, int n_new, int r0, int a, int w,
-                               T* tmp, std::size_t ldT, bool gather, cudaStream_t stream);
+cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int* reader, int n_new, int r0,
+                          int* progress, unsigned* ticket, cudaStream_t stream);
 
 // Descriptor rows: dst[k] = src[keep[k]] for k < count (D bytes each).
 cudaError_t launchGatherDescriptors(const uint8_t* src, const int* keep, int count, int D, uint8_t* dst,

@@ -220,6 +220,61 @@ TEST(CudaBackend, HundredIterationsMatchCpuSyrk) {
   runHundredIterations("syrk");
 }
 
+// A pool large enough that the removal pass walks every column in several
+// row chunks (n = 4212 > 1024 rows per chunk) with column shifts of hundreds,
+// and the update's gather runs over many 32 x 32 tiles (m > 32). Each removal
+// is also checked bit-exactly against the GPU's own state before it (the pass
+// is a pure copy), independently of the CPU reference.
+TEST(CudaBackend, LargePoolRemovalAndGatherMatchCpu) {
+  HAPI_REQUIRE_CUDA_DEVICE();
+  Rng r(6);
+  BackendPair p(1500, 32);
+  ASSERT_TRUE(p.gpu);
+  ASSERT_EQ(p.cpu->reset(r.spd12(0.01)), Status::kOk);
+  ASSERT_EQ(p.gpu->reset(r.spd12(0.01)), Status::kOk);
+  p.addRandom(r, 1400);
+  p.expectStatesEqual(kTol, "add 1400");
+
+  auto removeBoth = [&](std::vector<int> rem, const char* what) {
+    const Eigen::MatrixXd before = p.gpu->denseCovariance();
+    const int K = p.gpu->numLandmarks();
+    std::vector<char> gone(K, 0);
+    for (int s : rem) gone[s] = 1;
+    std::vector<int> idx;
+    for (int i = 0; i < kPoseDim; ++i) idx.push_back(i);
+    for (int k = 0; k < K; ++k)
+      if (!gone[k])
+        for (int c = 0; c < 3; ++c) idx.push_back(landmarkRow(k) + c);
+    Eigen::MatrixXd expect(idx.size(), idx.size());
+    for (std::size_t c = 0; c < idx.size(); ++c)
+      for (std::size_t i = 0; i < idx.size(); ++i) expect(i, c) = before(idx[i], idx[c]);
+    ASSERT_EQ(p.cpu->removeLandmarks(rem), Status::kOk) << what;
+    ASSERT_EQ(p.gpu->removeLandmarks(rem), Status::kOk) << what;
+    EXPECT_TRUE(p.gpu->denseCovariance() == expect) << what << ": the compaction is not an exact copy";
+    p.expectStatesEqual(kTol, what);
+  };
+
+  for (int round = 0; round < 3; ++round) {
+    const int K = p.cpu->numLandmarks();
+    std::vector<MeasurementBlock> blocks;
+    for (int s : r.distinct(K, 70)) blocks.push_back(randomBlock(r, s, 0.01));
+    Eigen::VectorXd dxc, dxg;
+    ASSERT_EQ(p.cpu->update(blocks, &dxc), Status::kOk) << round;
+    ASSERT_EQ(p.gpu->update(blocks, &dxg), Status::kOk) << round;
+    EXPECT_LE(relDiff(dxg, dxc), kTol) << round;
+    p.expectStatesEqual(kTol, "large update");
+
+    std::vector<int> rem = r.distinct(K, 70);  // scattered, shifts up to 210 columns
+    if (round == 1) rem.push_back(K - 1);  // with the last slot (may already be in: deduplicated)
+    std::sort(rem.begin(), rem.end());
+    rem.erase(std::unique(rem.begin(), rem.end()), rem.end());
+    removeBoth(rem, "scattered");
+    removeBoth({p.cpu->numLandmarks() / 2}, "one middle slot");  // r0 in the middle, shift 3
+    removeBoth({0, 1, 2, 3, 4, 5, 6, 7}, "leading run");         // everything moves by 24
+    p.addRandom(r, 60);
+  }
+}
+
 // Same Status for the same bad input, and neither state changes (issue 3 "bad input").
 TEST(CudaBackend, BadInputParity) {
   HAPI_REQUIRE_CUDA_DEVICE();
