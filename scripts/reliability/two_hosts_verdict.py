@@ -1,0 +1,134 @@
+#!/usr/bin/python3
+"""Judges a two_hosts.sh run from what ros_probe.py saw in each phase.
+
+  two_hosts_verdict.py --out DIR --bag-len S --link TEXT --link-kind netem|tun|iptables \
+                       --kill-wall S --restart-wall S --manager-pids PID_START PID_END
+
+Prints a report (link losses, per-phase odometry and both hosts' diagnostics
+counters, front end restart recovery time) and one PASS/FAIL line per check;
+exit 0 when all pass. Times are wall seconds from the start of the phase's
+probe (the same clock as ros_probe.py's "odom" entries).
+"""
+import argparse
+import json
+import math
+import os
+import re
+import sys
+
+
+def status(phase, needle):
+    """Key/values of the first diagnostics status whose name contains needle."""
+    for name, st in phase["diagnostics"].items():
+        if needle in name:
+            return st["values"]
+    return {}
+
+
+def num(d, k):
+    try:
+        return float(d.get(k, "nan"))
+    except ValueError:
+        return float("nan")
+
+
+def link_stats(out, kind):
+    """Per-direction packet counters of the impaired link, or {} when unknown."""
+    if kind == "tun" and os.path.exists(out + "/link.json"):
+        return json.load(open(out + "/link.json"))["directions"]
+    if kind == "netem" and os.path.exists(out + "/netem_stats.txt"):
+        d = {}
+        for block in open(out + "/netem_stats.txt").read().split("== ")[1:]:
+            ns = block.split("\n", 1)[0].strip()
+            m = re.search(r"Sent \d+ bytes (\d+) pkt \(dropped (\d+)", block)
+            if m:
+                sent, drop = int(m.group(1)), int(m.group(2))
+                d["from " + ns] = {"packets_in": sent + drop, "packets_dropped": drop, "packets_out": sent,
+                                   "loss_measured_pct": 100.0 * drop / max(1, sent + drop)}
+        return d
+    return {}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--bag-len", type=float, required=True)
+    ap.add_argument("--link", required=True)
+    ap.add_argument("--link-kind", required=True)
+    ap.add_argument("--kill-wall", type=float, required=True)
+    ap.add_argument("--restart-wall", type=float, required=True)
+    ap.add_argument("--manager-pids", nargs=2, required=True)
+    a = ap.parse_args()
+    ph = [json.load(open("%s/phase%d.json" % (a.out, i))) for i in (1, 2, 3)]
+    ok = [True]
+
+    def check(cond, text):
+        ok[0] &= bool(cond)
+        print("  [%s] %s" % ("PASS" if cond else "FAIL", text))
+
+    print("two_hosts: link = %s" % a.link)
+    if os.path.exists(a.out + "/ping.txt"):
+        print("  ping over the link: " + " / ".join(l.strip() for l in open(a.out + "/ping.txt")))
+    links = link_stats(a.out, a.link_kind)
+    for d, s in sorted(links.items()):
+        print("  link %s: %d packets, %d dropped (%.2f %%)" % (d, s["packets_in"], s["packets_dropped"],
+                                                             s["loss_measured_pct"]))
+    for i, p in enumerate(ph, 1):
+        be, fe = status(p, "eskf"), status(p, "frontend")
+        print("phase %d: %d odometry (%.1f Hz), max gap %.2f s, max step %.3f m, stamp jumps %d" % (
+            i, p["odom_count"], p.get("odom_rate_hz", 0), p.get("max_gap_s", 0), p.get("max_step_m", 0),
+            len(p.get("stamp_jumps", []))))
+        print("   back end : received %s accepted %s processed %s dropped %s stale %s rejected %s time_jumps %s "
+              "resets %s filter_errors %s" % tuple(be.get(k, "?") for k in (
+                  "frames_received", "frames_accepted", "frames_processed", "frames_dropped",
+                  "frames_stale_after_reset", "rejected_total", "time_jumps", "resets", "filter_errors")))
+        print("   front end: processed %s rejected %s dropped %s time resets %s" % tuple(
+            fe.get(k, "?") for k in ("frames processed", "rejected total", "dropped total", "time resets")))
+
+    frames = a.bag_len * 10
+    p1, p2, p3 = ph
+    be1, be2, be3 = status(p1, "eskf"), status(p2, "eskf"), status(p3, "eskf")
+    fe1 = status(p1, "frontend")
+    # Phase 1: running across the link, losses reported.
+    check(p1["odom_count"] >= 0.3 * frames,
+          "phase 1: odometry for >= 30 %% of the %d frames across the link (%d)" % (frames, p1["odom_count"]))
+    check(bool(be1) and bool(fe1), "phase 1: diagnostics of both hosts seen on the server")
+    if a.link_kind in ("netem", "tun"):
+        dropped = sum(s["packets_dropped"] for s in links.values())
+        check(dropped > 0, "link losses counted: %d packets dropped by the link" % dropped)
+    sent, got = num(fe1, "frames processed"), num(be1, "frames_received")
+    if not (math.isnan(sent) or math.isnan(got)):
+        # TCPROS retransmits lost segments, so link loss shows up as latency;
+        # whole messages are lost only where a queue overflows.
+        print("  phase 1 messages: front end published %d landmark frames, back end received %d (%d lost in "
+              "transit), dropped %s in its newest-wins mailbox (CPU-bound), processed %s" % (
+                  sent, got, sent - got, be1.get("frames_dropped", "?"), be1.get("frames_processed", "?")))
+    # Phase 2: replay = time jump; front end restart recovers, back end untouched.
+    check(num(be2, "time_jumps") >= num(be1, "time_jumps") + 1, "phase 2: replay detected as a time jump (filter reset)")
+    after = [o for o in p2["odom"] if o[0] > a.restart_wall]
+    before = [o for o in p2["odom"] if o[0] <= a.kill_wall]
+    if after:
+        rec = after[0][0] - a.restart_wall
+        outage = after[0][0] - (before[-1][0] if before else a.kill_wall)
+        print("  phase 2: front end killed at %.1f s, restart issued at %.1f s, first odometry after it at %.1f s: "
+              "recovery %.1f s after the restart command, odometry gap %.1f s" % (
+                  a.kill_wall, a.restart_wall, after[0][0], rec, outage))
+    check(len(after) >= 20, "phase 2: odometry resumed after the front end restart (%d messages)" % len(after))
+    check(a.manager_pids[0] != "" and a.manager_pids[0] == a.manager_pids[1],
+          "back end never restarted (manager pid %s at start, %s at end)" % tuple(a.manager_pids))
+    # Phase 3: clean reset at the loop point.
+    check(num(be3, "time_jumps") >= num(be2, "time_jumps") + 1, "phase 3: the loop point reset the filter")
+    j3 = p3.get("stamp_jumps", [])
+    check(len(j3) >= 1 and all(j["first_position_norm"] < 0.05 for j in j3),
+          "phase 3: first pose after each loop at the origin (%s)" % ", ".join(
+              "%.3f m" % j["first_position_norm"] for j in j3))
+    tail = [o for o in p3["odom"] if j3 and o[0] > j3[-1]["wall"] + 2]
+    check(len(tail) >= 10, "phase 3: odometry continues after the loop (%d messages)" % len(tail))
+    check(all(all(math.isfinite(v) for v in o[1:]) for p in ph for o in p["odom"]), "no NaN/Inf in any odometry")
+    check(num(be3, "filter_errors") == 0, "no filter errors (%s)" % be3.get("last_filter_error", ""))
+    print("VERDICT: %s" % ("PASS" if ok[0] else "FAIL"))
+    return 0 if ok[0] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
