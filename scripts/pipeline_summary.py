@@ -21,6 +21,10 @@ import yaml
 
 COUNTER_RE = re.compile(r"processed|updates|frames", re.IGNORECASE)
 TIME_RE = re.compile(r"\[ms\]$|_ms$", re.IGNORECASE)  # "time match [ms]", "t_update_ms"
+# Frame accounting shown next to the timings: a filter slower than the camera
+# drops frames (newest wins), which explains fewer odometry messages than images.
+ACCOUNT_RE = re.compile(r"^frames_(received|processed|dropped|failed)$|^(frames )?(received|processed)$"
+                        r"|^(dropped|rejected)[ _]total$", re.IGNORECASE)
 
 
 def to_float(s):
@@ -84,7 +88,9 @@ def stage_timings(diag):
                 peak = v if peak is None else max(peak, v)
             if den > 0:
                 stages[key] = (num / den, peak)
-        result[name] = {"counter": ck, "frames": prev if ck else len(samples), "stages": stages}
+        account = {k: v for k, v in samples[-1][1].items() if ACCOUNT_RE.search(k)}
+        result[name] = {"counter": ck, "frames": prev if ck else len(samples), "stages": stages,
+                        "account": account}
     return result
 
 
@@ -144,6 +150,8 @@ def main():
         missing.append("per-stage timing (no /diagnostics from the nodelets)")
     for name, t in sorted(timings.items()):
         print(f"  {name}  ({int(t['frames'])} {t['counter'] or 'windows'})")
+        if t.get("account"):
+            print("    frames: " + ", ".join(f"{k} {v}" for k, v in sorted(t["account"].items())))
         if not t["stages"]:
             print("    (no timing keys)")
         for key, (mean, peak) in sorted(t["stages"].items()):

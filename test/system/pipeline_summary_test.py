@@ -1,0 +1,107 @@
+#!/usr/bin/python3
+"""Unit test of scripts/pipeline_summary.py, the printout of the main job.
+
+A report YAML and a /diagnostics bag are written here with known values, so
+the test checks what the summary computes (frame-weighted stage means, the
+idle windows after the bag not counted, frame accounting) and its exit status:
+0 in bounds, 2 a metric out of bounds, 1 something missing (never guessed).
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import rosbag
+import rospy
+import yaml
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPT = os.path.join(HERE, "..", "..", "scripts", "pipeline_summary.py")
+sys.path.insert(0, os.path.dirname(SCRIPT))
+import pipeline_summary  # noqa: E402
+
+GOOD = {
+    "odom_messages": 150, "odom_rate_sim_hz": 10.0, "odom_rate_wall_hz": 9.9, "gt_messages": 150,
+    "poses_compared": 150, "ate_rmse_m": 0.01, "ate_max_m": 0.03, "distance_travelled_m": 1.0,
+    "ate_fraction_of_distance": 0.01, "map_points": 500, "map_rms_to_sphere_m": 0.004,
+    "map_median_abs_to_sphere_m": 0.003,
+}
+
+
+def status(name, **values):
+    return DiagnosticStatus(name=name, values=[KeyValue(key=k, value=str(v)) for k, v in values.items()])
+
+
+def write_diag_bag(path):
+    """Three windows of the filter: 10 frames at 20 ms, 30 frames at 40 ms,
+    then an idle window (no new frames, the nodelet reports 0 ms)."""
+    windows = [(10, 20.0, 0), (40, 40.0, 2), (40, 0.0, 2)]
+    with rosbag.Bag(path, "w") as bag:
+        for i, (processed, t_ms, dropped) in enumerate(windows):
+            arr = DiagnosticArray()
+            arr.status.append(status("eskf: filter", frames_processed=processed, frames_received=processed + dropped,
+                                     frames_dropped=dropped, t_update_ms=t_ms))
+            arr.status.append(status("unrelated: other node", frames_processed=99, t_x_ms=1000.0))
+            bag.write("/diagnostics", arr, rospy.Time(100 + i))
+
+
+class PipelineSummaryTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.diag = os.path.join(self.tmp.name, "diagnostics.bag")
+        write_diag_bag(self.diag)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def run_summary(self, report, *extra):
+        path = os.path.join(self.tmp.name, "report.yaml")
+        with open(path, "w") as f:
+            yaml.safe_dump(report, f)
+        p = subprocess.run([sys.executable, SCRIPT, path, *extra], capture_output=True, text=True)
+        return p.returncode, p.stdout
+
+    def test_stage_means_weighted_by_frames(self):
+        t = pipeline_summary.stage_timings(pipeline_summary.read_diagnostics(self.diag))
+        self.assertEqual(set(t), {"eskf: filter"})  # other nodes' statuses are not ours
+        f = t["eskf: filter"]
+        self.assertEqual(f["counter"], "frames_processed")
+        self.assertEqual(f["frames"], 40)
+        mean, worst = f["stages"]["t_update_ms"]
+        self.assertAlmostEqual(mean, (10 * 20.0 + 30 * 40.0) / 40)  # the idle window does not count
+        self.assertAlmostEqual(worst, 40.0)
+        self.assertEqual(f["account"]["frames_dropped"], "2")
+
+    def test_pass(self):
+        rc, out = self.run_summary(GOOD, self.diag)
+        self.assertEqual(rc, 0, out)
+        self.assertIn("= 1.00 %", out)
+        self.assertIn("t_update_ms", out)
+        self.assertIn("frames_dropped 2", out)
+
+    def test_metric_out_of_bounds(self):
+        rc, out = self.run_summary(dict(GOOD, ate_fraction_of_distance=0.03), self.diag)
+        self.assertEqual(rc, 2, out)
+        self.assertIn("FAILED: ATE", out)
+        rc, out = self.run_summary(dict(GOOD, map_rms_to_sphere_m=0.02), self.diag)
+        self.assertEqual(rc, 2, out)
+        self.assertIn("FAILED: map error", out)
+
+    def test_missing_parts(self):
+        rc, out = self.run_summary(GOOD)  # no diagnostics: timing missing
+        self.assertEqual(rc, 1, out)
+        self.assertIn("MISSING: per-stage timing", out)
+        no_ate = {k: v for k, v in GOOD.items() if not k.startswith("ate_")}
+        rc, out = self.run_summary(no_ate, self.diag)
+        self.assertEqual(rc, 1, out)
+        self.assertIn("MISSING: ATE", out)
+        no_map = {k: v for k, v in GOOD.items() if not k.startswith("map_rms")}
+        rc, out = self.run_summary(dict(no_map, ate_fraction_of_distance=0.5, map_points=0), self.diag)
+        self.assertEqual(rc, 1, out)  # missing wins over failed
+        self.assertIn("MISSING: map error (no map received)", out)
+
+
+if __name__ == "__main__":
+    unittest.main()
