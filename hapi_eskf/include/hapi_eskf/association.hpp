@@ -26,11 +26,18 @@ struct Association {
   // both copies from then on, and each later observation would add another.
   std::vector<char> may_add;
   int n_candidates = 0;  // descriptor matches (threshold + ratio test) before gating
-  int n_gated_out = 0;   // rejected by the Mahalanobis gate (or S_j not PD)
+  int n_gated_out = 0;   // rejected by the Mahalanobis gate (or S_j not PD) or as RANSAC outliers
+  int n_ransac_out = 0;  // of those: off the best rigid fit (EskfSettings::ransac_iterations)
   int n_conflicts = 0;   // dropped because another measurement took the same landmark
 };
 
 // `positions` are the landmark positions in slot order (size numLandmarks()).
+// Inliers of a RANSAC rigid fit X_i ~ R Z_i + t (world landmark <- camera
+// point), Mahalanobis with W_i + R Cz_i R^T against chi2; empty = undecided.
+std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vector<Vec3>& Z,
+                                     const std::vector<Mat3>& W, const std::vector<Mat3>& Cz, int iterations,
+                                     double chi2);
+
 Status associate(const StereoFrame& frame, const PoseState& pose, const std::vector<Vec3>& positions,
                  const CovarianceBackend& backend, const EskfSettings& settings, Association* out);
 

@@ -60,6 +60,8 @@ class Eskf {
  private:
   // Internal steps, exposed to tests through the public API only.
   Status checkFrame(const StereoFrame& frame) const;
+  // Re-detection covariance added to C_z (EskfSettings::measurement_angular_sigma).
+  Mat3 redetectionCovariance(const Vec3& z) const;
 
   EskfSettings settings_;
   std::unique_ptr<CovarianceBackend> backend_;

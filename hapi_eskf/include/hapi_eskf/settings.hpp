@@ -26,6 +26,21 @@ struct EskfSettings {
   int max_hamming = 64;          // descriptor distance accepted as a candidate
   double match_ratio = 0.8;      // best / second-best Hamming ratio test
   double gate_chi2 = 11.345;     // Mahalanobis gate, chi^2(3) at 99 %
+  // Geometric consistency of the descriptor candidates before gating: a
+  // RANSAC rigid fit world <- camera on the 3D-3D pairs (landmark, stereo
+  // point), 3-point samples, this many hypotheses (deterministic seed); pairs
+  // off the best fit (Mahalanobis > gate_chi2 with the landmark's marginal
+  // plus R C_z R^T) are rejected. Catches wrong descriptor matches that the
+  // per-candidate gate lets through when the predicted pose is uncertain
+  // (large inter-frame motion). 0 = off; used only with >= 6 candidates.
+  int ransac_iterations = 0;
+  // --- measurement model ---
+  // Re-detection noise [rad, 1 sigma] of a keypoint from frame to frame,
+  // perpendicular to the viewing ray: the front end's covariance describes one
+  // stereo pair (left/right refined against each other), but the detector does
+  // not find exactly the same physical point in the next frame. Added to every
+  // C_z as (sigma * |z|)^2 (I - r r^T), r = z / |z|. 0 = trust C_z as it is.
+  double measurement_angular_sigma = 0.0;
 
   // --- motion model (DESIGN.md "Predict") ---
   double velocity_damping = 1.0;          // Gamma: v <- Gamma v per second (1 = none)

@@ -3,8 +3,96 @@
 #include "hapi_eskf/jacobians.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/SVD>
+
+#include <cstdint>
+#include <random>
 
 namespace hapi_eskf {
+namespace {
+
+// Least-squares rigid transform X ~ R Z + t over the given indices (Kabsch).
+void fitRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std::vector<int>& idx, Mat3* R, Vec3* t) {
+  Vec3 mx = Vec3::Zero(), mz = Vec3::Zero();
+  for (int i : idx) { mx += X[i]; mz += Z[i]; }
+  mx /= static_cast<double>(idx.size());
+  mz /= static_cast<double>(idx.size());
+  Mat3 cov = Mat3::Zero();
+  for (int i : idx) cov += (X[i] - mx) * (Z[i] - mz).transpose();
+  Eigen::JacobiSVD<Mat3> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Mat3 D = Mat3::Identity();
+  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) D(2, 2) = -1.0;
+  *R = svd.matrixU() * D * svd.matrixV().transpose();
+  *t = mx - *R * mz;
+}
+
+// Inlier flags of the hypothesis (R, t) and their count; *cost = sum of the
+// inliers' squared Mahalanobis distances (tie-break between equal counts).
+int scoreRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std::vector<Mat3>& W,
+               const std::vector<Mat3>& Cz, const Mat3& R, const Vec3& t, double chi2, std::vector<char>* inl,
+               double* cost) {
+  int n = 0;
+  *cost = 0.0;
+  inl->assign(X.size(), 0);
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    const Vec3 e = X[i] - (R * Z[i] + t);
+    const Mat3 S = W[i] + R * Cz[i] * R.transpose();
+    Eigen::LLT<Mat3> llt(S);
+    if (llt.info() != Eigen::Success) continue;
+    const double d2 = llt.matrixL().solve(e).squaredNorm();
+    if (d2 <= chi2) {
+      (*inl)[i] = 1;
+      ++n;
+      *cost += d2;
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+// RANSAC over 3-point samples; then one refit on the inliers. Deterministic
+// (fixed seed, own index draw) so that every backend sees the same result.
+// Returns the inlier flags of the best fit, or empty when no hypothesis is
+// supported by at least 3 pairs (then nothing is decided here).
+std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vector<Vec3>& Z,
+                                     const std::vector<Mat3>& W, const std::vector<Mat3>& Cz, int iterations,
+                                     double chi2) {
+  const int n = static_cast<int>(X.size());
+  if (n < 3) return {};
+  std::mt19937 rng(0x5eed1234u + static_cast<uint32_t>(n));
+  std::vector<char> best, cur;
+  int best_n = 0;
+  double best_cost = 0.0;
+  for (int it = 0; it < iterations; ++it) {
+    const int a = static_cast<int>(rng() % static_cast<uint32_t>(n));
+    const int b = static_cast<int>(rng() % static_cast<uint32_t>(n));
+    const int c = static_cast<int>(rng() % static_cast<uint32_t>(n));
+    if (a == b || a == c || b == c) continue;
+    // Degenerate (nearly collinear) samples fix no rotation about their line.
+    if ((Z[b] - Z[a]).cross(Z[c] - Z[a]).norm() < 1e-6) continue;
+    Mat3 R;
+    Vec3 t;
+    fitRigid(X, Z, {a, b, c}, &R, &t);
+    double cost;
+    const int k = scoreRigid(X, Z, W, Cz, R, t, chi2, &cur, &cost);
+    if (k > best_n || (k == best_n && k > 0 && cost < best_cost)) {
+      best_n = k;
+      best_cost = cost;
+      best = cur;
+    }
+  }
+  if (best_n < 3) return {};
+  std::vector<int> idx;
+  for (int i = 0; i < n; ++i)
+    if (best[i]) idx.push_back(i);
+  Mat3 R;
+  Vec3 t;
+  fitRigid(X, Z, idx, &R, &t);
+  double cost;
+  if (scoreRigid(X, Z, W, Cz, R, t, chi2, &cur, &cost) >= best_n) best = cur;
+  return best;
+}
 
 Status associate(const StereoFrame& frame, const PoseState& pose, const std::vector<Vec3>& positions,
                  const CovarianceBackend& backend, const EskfSettings& settings, Association* out) {
@@ -44,14 +132,35 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const std::vec
     return Status::kOk;
   }
 
-  // 2. Mahalanobis gate with the marginal S_j of each candidate alone.
   std::vector<Mat9> M;
   st = backend.marginals(cand_slot, &M);
   if (st != Status::kOk) return st;
+
+  // 2. Geometric consistency (RANSAC rigid fit), see EskfSettings::ransac_iterations.
+  std::vector<char> consistent(cand_meas.size(), 1);
+  if (settings.ransac_iterations > 0 && cand_meas.size() >= 6) {
+    std::vector<Vec3> X(cand_meas.size()), Z(cand_meas.size());
+    std::vector<Mat3> W(cand_meas.size()), Cz(cand_meas.size());
+    for (std::size_t c = 0; c < cand_meas.size(); ++c) {
+      X[c] = positions[cand_slot[c]];
+      Z[c] = frame.measurements[cand_meas[c]].z;
+      W[c] = M[c].block<3, 3>(6, 6);
+      Cz[c] = frame.measurements[cand_meas[c]].Cz;
+    }
+    const std::vector<char> inl = ransacRigidInliers(X, Z, W, Cz, settings.ransac_iterations, settings.gate_chi2);
+    if (!inl.empty()) consistent = inl;
+  }
+
+  // 3. Mahalanobis gate with the marginal S_j of each candidate alone.
   std::vector<int> owner(K, -1);  // best measurement per landmark
   std::vector<double> owner_d2(K, 0.0);
   for (std::size_t c = 0; c < cand_meas.size(); ++c) {
     const int i = cand_meas[c], k = cand_slot[c];
+    if (!consistent[c]) {
+      ++a.n_gated_out;
+      ++a.n_ransac_out;
+      continue;
+    }
     const StereoMeasurement& z = frame.measurements[i];
     Mat36 Hp;
     Mat3 Hm;
@@ -71,7 +180,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const std::vec
       ++a.n_gated_out;
       continue;
     }
-    // 3. One measurement per landmark: keep the smallest distance.
+    // 4. One measurement per landmark: keep the smallest distance.
     if (owner[k] < 0 || d2 < owner_d2[k]) {
       if (owner[k] >= 0) {
         a.slot[owner[k]] = -1;

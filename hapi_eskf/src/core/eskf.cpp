@@ -162,10 +162,17 @@ Status Eskf::checkFrame(const StereoFrame& frame) const {
   return Status::kOk;
 }
 
-Status Eskf::processFrame(const StereoFrame& frame, IterationReport* report) {
+Mat3 Eskf::redetectionCovariance(const Vec3& z) const {
+  const double s = settings_.measurement_angular_sigma, d2 = z.squaredNorm();
+  if (!(s > 0.0) || !(d2 > 0.0)) return Mat3::Zero();
+  // (s |z|)^2 (I - z z^T / |z|^2) = s^2 (|z|^2 I - z z^T)
+  return s * s * (d2 * Mat3::Identity() - z * z.transpose());
+}
+
+Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) {
   const auto t_start = Clock::now();
   IterationReport rep;
-  rep.n_measurements = static_cast<int>(frame.measurements.size());
+  rep.n_measurements = static_cast<int>(frame_in.measurements.size());
   rep.n_landmarks = numLandmarks();
   auto finish = [&](Status s) {
     rep.t_total_ms = msSince(t_start);
@@ -176,9 +183,18 @@ Status Eskf::processFrame(const StereoFrame& frame, IterationReport* report) {
   if (!backend_) return finish(Status::kBackendUnavailable);
   if (!initialised_) return finish(Status::kBackendUnavailable);
   // Everything that can be wrong with the input is found here, before any change.
-  Status st = checkFrame(frame);
+  Status st = checkFrame(frame_in);
   if (st != Status::kOk) return finish(st);
   const int n = rep.n_measurements;
+  // Measurement model: C_z of the stereo pair plus the keypoint's re-detection
+  // noise across frames (settings.hpp, measurement_angular_sigma), used for
+  // gating, the update and new landmarks alike.
+  StereoFrame inflated;
+  if (settings_.measurement_angular_sigma > 0.0) {
+    inflated = frame_in;
+    for (StereoMeasurement& m : inflated.measurements) m.Cz += redetectionCovariance(m.z);
+  }
+  const StereoFrame& frame = settings_.measurement_angular_sigma > 0.0 ? inflated : frame_in;
 
   // --- predict ---
   auto t0 = Clock::now();

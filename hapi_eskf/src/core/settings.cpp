@@ -38,6 +38,11 @@ std::string EskfSettings::validate() const {
     e << "sigma_acceleration must be > 0, got " << sigma_acceleration;
   else if (!finitePositive(sigma_angular_acceleration))
     e << "sigma_angular_acceleration must be > 0, got " << sigma_angular_acceleration;
+  else if (ransac_iterations < 0 || ransac_iterations > 100000)
+    e << "ransac_iterations must be in [0, 100000], got " << ransac_iterations;
+  else if (!(std::isfinite(measurement_angular_sigma) && measurement_angular_sigma >= 0.0 &&
+             measurement_angular_sigma < 0.1))
+    e << "measurement_angular_sigma must be in [0, 0.1) rad, got " << measurement_angular_sigma;
   else if (!finitePositive(initial_sigma_position))
     e << "initial_sigma_position must be > 0, got " << initial_sigma_position;
   else if (!finitePositive(initial_sigma_orientation))

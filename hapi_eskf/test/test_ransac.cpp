@@ -1,0 +1,114 @@
+// Geometric consistency of descriptor candidates (association.cpp,
+// EskfSettings::ransac_iterations): wrong matches that the per-candidate
+// Mahalanobis gate accepts when the predicted pose is uncertain are rejected
+// by the RANSAC rigid fit, correct ones are kept.
+#include "hapi_eskf/association.hpp"
+#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/so3.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace hapi_eskf;
+
+namespace {
+
+// n landmark/measurement pairs seen from camera pose (R, t); the pairs listed
+// in `wrong` get a measurement of another point 3 cm away.
+void makePairs(int n, const std::vector<int>& wrong, std::vector<Vec3>* X, std::vector<Vec3>* Z,
+               std::vector<Mat3>* W, std::vector<Mat3>* Cz, Mat3* R, Vec3* t) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  *R = Eigen::AngleAxisd(0.3, Vec3(0.2, 1.0, -0.1).normalized()).toRotationMatrix();
+  *t = Vec3(0.1, -0.2, 0.05);
+  const double s_m = 1e-3, s_z = 5e-4;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 zc(0.3 * g(rng), 0.2 * g(rng), 0.5 + 0.1 * std::abs(g(rng)));
+    Vec3 x = *R * zc + *t;
+    X->push_back(x + s_m * Vec3(g(rng), g(rng), g(rng)));
+    Z->push_back(zc + s_z * Vec3(g(rng), g(rng), g(rng)));
+    W->push_back(s_m * s_m * Mat3::Identity());
+    Cz->push_back(s_z * s_z * Mat3::Identity());
+  }
+  for (int i : wrong) (*Z)[i] += Vec3(0.03, -0.01, 0.0);
+}
+
+}  // namespace
+
+TEST(Ransac, RejectsWrongMatchesKeepsCorrect) {
+  std::vector<Vec3> X, Z;
+  std::vector<Mat3> W, Cz;
+  Mat3 R;
+  Vec3 t;
+  const std::vector<int> wrong{2, 5, 11, 17, 23, 29};  // 20 % outliers
+  makePairs(30, wrong, &X, &Z, &W, &Cz, &R, &t);
+  const std::vector<char> inl = ransacRigidInliers(X, Z, W, Cz, 200, 11.345);
+  ASSERT_EQ(inl.size(), X.size());
+  int kept_good = 0;
+  for (int i = 0; i < 30; ++i) {
+    const bool is_wrong = std::find(wrong.begin(), wrong.end(), i) != wrong.end();
+    if (is_wrong) EXPECT_FALSE(inl[i]) << i;
+    else kept_good += inl[i];
+  }
+  // chi^2(3) at 99 %: about 1 % of the correct pairs may fall outside.
+  EXPECT_GE(kept_good, 22);
+}
+
+TEST(Ransac, UndecidedWithoutSupportAndDeterministic) {
+  std::vector<Vec3> X, Z;
+  std::vector<Mat3> W, Cz;
+  Mat3 R;
+  Vec3 t;
+  makePairs(12, {}, &X, &Z, &W, &Cz, &R, &t);
+  EXPECT_EQ(ransacRigidInliers(X, Z, W, Cz, 100, 11.345), ransacRigidInliers(X, Z, W, Cz, 100, 11.345));
+  // Every measurement paired with a random landmark: no rigid fit explains 3.
+  std::vector<Vec3> Xs = X;
+  std::mt19937 rng(3);
+  for (auto& x : Xs) x = Vec3(std::uniform_real_distribution<double>(-5, 5)(rng), 0.0, 0.0) + x * 10.0;
+  EXPECT_TRUE(ransacRigidInliers(Xs, Z, W, Cz, 100, 11.345).empty());
+  EXPECT_TRUE(ransacRigidInliers({X[0], X[1]}, {Z[0], Z[1]}, {W[0], W[1]}, {Cz[0], Cz[1]}, 100, 11.345).empty());
+}
+
+TEST(Ransac, SettingsValidated) {
+  EskfSettings s;
+  s.ransac_iterations = -1;
+  EXPECT_NE(s.validate().find("ransac_iterations"), std::string::npos);
+  s = EskfSettings();
+  s.measurement_angular_sigma = -1e-3;
+  EXPECT_NE(s.validate().find("measurement_angular_sigma"), std::string::npos);
+  s.measurement_angular_sigma = 1e-3;
+  s.ransac_iterations = 200;
+  EXPECT_EQ(s.validate(), "");
+}
+
+// EskfSettings::measurement_angular_sigma: a new landmark's covariance is the
+// stereo C_z plus (sigma |z|)^2 across the ray, nothing along it.
+TEST(MeasurementModel, RedetectionNoiseAddedAcrossTheRay) {
+  EskfSettings s;
+  s.max_landmarks = 10;
+  s.initial_sigma_position = 1e-9;
+  s.initial_sigma_orientation = 1e-9;
+  s.measurement_angular_sigma = 2e-3;
+  s.max_new_landmarks = 5;
+  s.max_update_landmarks = 10;
+  ASSERT_EQ(s.validate(), "");
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 4));
+  ASSERT_EQ(f.reset(PoseState(), 1.0), Status::kOk);  // no prediction before the frame
+  StereoFrame fr;
+  fr.stamp = 1.0;
+  fr.descriptor_length = 4;
+  fr.descriptors = {1, 2, 3, 4};
+  StereoMeasurement m;
+  m.z = Vec3(0.1, -0.2, 0.6);
+  m.Cz = Vec3(1e-8, 2e-8, 4e-6).asDiagonal();
+  fr.measurements.push_back(m);
+  ASSERT_EQ(f.processFrame(fr), Status::kOk);
+  ASSERT_EQ(f.numLandmarks(), 1);
+  const Mat3 C = f.landmarks()[0].covariance;
+  const Vec3 r = m.z.normalized();
+  const Mat3 expected = m.Cz + 4e-6 * m.z.squaredNorm() * (Mat3::Identity() - r * r.transpose());
+  EXPECT_LT((C - expected).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_NEAR(r.dot((C - m.Cz) * r), 0.0, 1e-14);
+}
