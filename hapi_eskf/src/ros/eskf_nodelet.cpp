@@ -4,13 +4,13 @@
 
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/TransformStamped.h>
-#include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <sensor_msgs/PointCloud2.h>
 
 #include <sys/stat.h>
 
+#include <iterator>
 #include <stdexcept>
 
 namespace hapi_eskf {
@@ -102,6 +102,7 @@ void EskfNodelet::onInit() {
   if (params_.use_imu || !params_.base_frame.empty())
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+  if (params_.use_imu) propagator_ = std::make_unique<ros_glue::PosePropagator>(params_.filter);
 
   // Topics are relative to the nodelet's namespace/name: a nodelet named
   // `eskf` publishes /eskf/odom etc. (private handle) and reads `landmarks`
@@ -179,6 +180,7 @@ void EskfNodelet::landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& 
       validation_.descriptor_type = msg->descriptor_type;
     }
     w.frame_id = camera_frame_;
+    w.stamp = msg->header.stamp;
     w.epoch = epoch_.load();
   }
   ++n_accepted_;
@@ -204,6 +206,12 @@ void EskfNodelet::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
     if (last_imu_stamp_ >= 0.0 && last_imu_stamp_ - stamp > params_.time_jump_reset) {
       std::lock_guard<std::mutex> lk2(imu_mu_);
       imu_buffer_.clear();  // samples of the old timeline would never be consumed
+    } else if (last_imu_stamp_ >= 0.0 && stamp <= last_imu_stamp_) {
+      // The buffer is kept in stamp order (the propagation relies on it).
+      ++n_imu_dropped_;
+      NODELET_WARN_THROTTLE(2.0, "IMU sample at %.6f not newer than the previous one (%.6f): dropped", stamp,
+                            last_imu_stamp_);
+      return;
     }
     last_imu_stamp_ = stamp;
     const std::string& f = msg->header.frame_id;
@@ -226,12 +234,15 @@ void EskfNodelet::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
     }
     q_ci = it->second;
   }
-  std::lock_guard<std::mutex> lk(imu_mu_);
-  imu_buffer_.push_back({stamp, q_ci * g});
-  while (static_cast<int>(imu_buffer_.size()) > params_.imu_buffer_size) {
-    imu_buffer_.pop_front();
-    ++n_imu_dropped_;
+  {
+    std::lock_guard<std::mutex> lk(imu_mu_);
+    imu_buffer_.push_back({stamp, msg->header.stamp, q_ci * g});
+    while (static_cast<int>(imu_buffer_.size()) > params_.imu_buffer_size) {
+      imu_buffer_.pop_front();
+      ++n_imu_dropped_;
+    }
   }
+  mailbox_.wake();  // the worker publishes the propagated pose at the IMU rate
 }
 
 bool EskfNodelet::resetService(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
@@ -337,6 +348,7 @@ void EskfNodelet::workerLoop() {
         }
       }
     }
+    if (params_.use_imu) propagateImu();
     if (snapshot_requested_.exchange(false) ||
         (ros::WallTime::now() - last_snapshot_wall_).toSec() >= 1.0 / params_.map_publish_rate)
       takeSnapshot();
@@ -354,6 +366,8 @@ void EskfNodelet::resetFilter() {
     std::lock_guard<std::mutex> lk(path_mu_);
     trajectory_.clear();
   }
+  last_output_stamp_ = -1.0;  // the new timeline may start earlier
+  if (propagator_) propagator_->invalidate();
   tf_buffer_->clear();  // after a bag loop its data lies in the "future" of the new timeline
   nav_msgs::Path empty;
   empty.header.frame_id = params_.world_frame;
@@ -496,21 +510,58 @@ bool EskfNodelet::process(Work& w) {
     n_landmarks_ = eskf_->numLandmarks();
     backend_memory_ = eskf_->backend().memoryBytes();
   }
-  last_stamp_ = ros::Time(stamp);
-  publishState(w.frame_id);
+  last_stamp_ = w.stamp;
+  output_frame_ = w.frame_id;
+  const Mat12 C = eskf_->poseCovariance();
+  const nav_msgs::Odometry odom = makeOdometry(last_stamp_, eskf_->pose(), C);
+  // With ~use_imu the IMU-rate output may already be past this frame (front-end
+  // latency): outputs keep strictly increasing stamps, and the corrected state
+  // reaches the next one through the propagation re-based here.
+  if (stamp > last_output_stamp_) publishOutput(odom);
+  recordPath(odom);
+  if (propagator_) propagator_->rebase(eskf_->pose(), C, stamp);
   return true;
 }
 
-void EskfNodelet::publishState(const std::string& camera_frame) {
-  const PoseState& pose = eskf_->pose();
-  const Mat12 C = eskf_->poseCovariance();
+void EskfNodelet::propagateImu() {
+  if (!propagator_ || !propagator_->valid() || !eskf_ || need_init_) return;
+  std::vector<ImuSample> fresh;
+  {
+    // The buffer is in stamp order (imuCallback drops older samples) and
+    // holds only samples after the last processed frame, plus new ones.
+    std::lock_guard<std::mutex> lk(imu_mu_);
+    auto it = imu_buffer_.end();
+    while (it != imu_buffer_.begin() && std::prev(it)->stamp > propagator_->time()) --it;
+    fresh.assign(it, imu_buffer_.end());
+  }
+  for (const ImuSample& s : fresh) {
+    const Status st = propagator_->step(s.stamp, s.gyro_camera, params_.gyro_noise_density);
+    if (st != Status::kOk) {
+      NODELET_WARN_THROTTLE(2.0, "IMU-rate propagation stopped at %.3f: %s", s.stamp, toString(st));
+      return;
+    }
+    // One output per sample, so the output rate is the IMU rate however the
+    // worker is woken; samples already covered before a re-base are skipped.
+    if (s.stamp > last_output_stamp_) {
+      publishOutput(makeOdometry(s.ros_stamp, propagator_->pose(), propagator_->covariance()));
+      ++n_imu_outputs_;
+    }
+  }
+}
 
+nav_msgs::Odometry EskfNodelet::makeOdometry(const ros::Time& stamp, const PoseState& pose, const Mat12& C) const {
   nav_msgs::Odometry odom;
-  odom.header.stamp = last_stamp_;
+  odom.header.stamp = stamp;
   odom.header.frame_id = params_.world_frame;
-  odom.child_frame_id = camera_frame;
+  odom.child_frame_id = output_frame_;
   odom.pose = ros_glue::toPoseWithCovariance(pose, C, T_map_world_);
   odom.twist = ros_glue::toTwistWithCovariance(pose, C);
+  return odom;
+}
+
+void EskfNodelet::publishOutput(const nav_msgs::Odometry& odom) {
+  last_output_stamp_ = odom.header.stamp.toSec();
+  ++n_outputs_;
   odom_pub_.publish(odom);
 
   geometry_msgs::PoseWithCovarianceStamped ps;
@@ -518,9 +569,33 @@ void EskfNodelet::publishState(const std::string& camera_frame) {
   ps.pose = odom.pose;
   pose_pub_.publish(ps);
 
+  if (params_.publish_tf) {
+    // One parent per frame in TF: the camera (or base) frame's parent becomes
+    // world_frame. With ~base_frame, T_map_base = T_map_cam * T_cam_base.
+    const auto& op = odom.pose.pose;
+    Eigen::Isometry3d T_map_cam = Eigen::Isometry3d::Identity();
+    T_map_cam.linear() =
+        Eigen::Quaterniond(op.orientation.w, op.orientation.x, op.orientation.y, op.orientation.z)
+            .normalized()
+            .toRotationMatrix();
+    T_map_cam.translation() = Vec3(op.position.x, op.position.y, op.position.z);
+    geometry_msgs::TransformStamped t;
+    t.header = odom.header;
+    if (params_.base_frame.empty()) {
+      t.child_frame_id = odom.child_frame_id;
+      t.transform = toTransform(T_map_cam);
+    } else {
+      t.child_frame_id = params_.base_frame;
+      t.transform = toTransform(T_map_cam * T_cam_base_);
+    }
+    tf_broadcaster_->sendTransform(t);
+  }
+}
+
+void EskfNodelet::recordPath(const nav_msgs::Odometry& odom) {
   const auto& op = odom.pose.pose;
   ros_glue::StampedPose sp;
-  sp.stamp = last_stamp_.toSec();
+  sp.stamp = odom.header.stamp.toSec();
   sp.p = Vec3(op.position.x, op.position.y, op.position.z);
   sp.q = Eigen::Quaterniond(op.orientation.w, op.orientation.x, op.orientation.y, op.orientation.z);
   nav_msgs::Path path;
@@ -550,24 +625,6 @@ void EskfNodelet::publishState(const std::string& camera_frame) {
     path.header = odom.header;
     path_pub_.publish(path);
   }
-
-  if (params_.publish_tf) {
-    // One parent per frame in TF: the camera (or base) frame's parent becomes
-    // world_frame. With ~base_frame, T_map_base = T_map_cam * T_cam_base.
-    Eigen::Isometry3d T_map_cam = Eigen::Isometry3d::Identity();
-    T_map_cam.linear() = sp.q.normalized().toRotationMatrix();
-    T_map_cam.translation() = sp.p;
-    geometry_msgs::TransformStamped t;
-    t.header = odom.header;
-    if (params_.base_frame.empty()) {
-      t.child_frame_id = camera_frame;
-      t.transform = toTransform(T_map_cam);
-    } else {
-      t.child_frame_id = params_.base_frame;
-      t.transform = toTransform(T_map_cam * T_cam_base_);
-    }
-    tf_broadcaster_->sendTransform(t);
-  }
 }
 
 void EskfNodelet::takeSnapshot() {
@@ -589,11 +646,14 @@ void EskfNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const ros::WallTime now = ros::WallTime::now();
   const double dt = std::max(1e-6, (now - diag_prev_time_).toSec());
   diag_prev_time_ = now;
-  const std::uint64_t accepted = n_accepted_, processed = n_processed_, dropped = mailbox_.dropped();
+  const std::uint64_t accepted = n_accepted_, processed = n_processed_, dropped = mailbox_.dropped(),
+                      outputs = n_outputs_;
   std::uint64_t rejected = 0;
   for (const auto& r : n_rejected_) rejected += r.load();
   const double in_rate = (accepted - diag_prev_accepted_) / dt, proc_rate = (processed - diag_prev_processed_) / dt;
   const std::uint64_t new_rejected = rejected - diag_prev_rejected_, new_dropped = dropped - diag_prev_dropped_;
+  const double out_rate = (outputs - diag_prev_outputs_) / dt;
+  diag_prev_outputs_ = outputs;
   diag_prev_accepted_ = accepted;
   diag_prev_processed_ = processed;
   diag_prev_rejected_ = rejected;
@@ -627,6 +687,8 @@ void EskfNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const double n = std::max(1, s.n);
   stat.add("input_rate_hz", in_rate);
   stat.add("processing_rate_hz", proc_rate);
+  // odom/pose/TF outputs per second: the frame rate, or the IMU rate with ~use_imu.
+  stat.add("output_rate_hz", out_rate);
   stat.add("frames_received", n_received_.load());
   stat.add("frames_accepted", accepted);
   stat.add("frames_processed", processed);
@@ -662,6 +724,7 @@ void EskfNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   if (params_.use_imu) {
     stat.add("imu_samples_used", n_imu_used_.load());
     stat.add("imu_samples_dropped", n_imu_dropped_.load());
+    stat.add("imu_rate_outputs", n_imu_outputs_.load());
   }
 }
 

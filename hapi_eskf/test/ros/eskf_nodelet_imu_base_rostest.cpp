@@ -1,8 +1,15 @@
 // rostest of EskfNodelet with ~base_frame and ~use_imu (eskf_nodelet_imu_base.test).
+// The tests run in order on one nodelet instance:
+//  1. frames at 20 Hz with 100 Hz gyro in between: map anchored at the first
+//     base pose, TF map -> base_link, the gyro drives the prediction;
+//  2. frames at 10 Hz, gyro at 100 Hz: odometry (and TF) at the IMU rate, one
+//     output per gyro sample with strictly increasing stamps, following the
+//     truth between frames, twist = the gyro rate.
 #include "synthetic_frames.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_ros/buffer.h>
@@ -20,11 +27,16 @@ const std::string kFrame = "stereo_left_optical_frame";
 
 std::mutex mu;
 std::vector<nav_msgs::Odometry> odoms;
+std::size_t n_paths = 0;
 std::map<std::string, std::string> diag;
 
 void onOdom(const nav_msgs::Odometry::ConstPtr& m) {
   std::lock_guard<std::mutex> lk(mu);
   odoms.push_back(*m);
+}
+void onPath(const nav_msgs::Path::ConstPtr&) {
+  std::lock_guard<std::mutex> lk(mu);
+  ++n_paths;
 }
 void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
   std::lock_guard<std::mutex> lk(mu);
@@ -36,6 +48,14 @@ std::size_t numOdom() {
   std::lock_guard<std::mutex> lk(mu);
   return odoms.size();
 }
+std::size_t numPaths() {
+  std::lock_guard<std::mutex> lk(mu);
+  return n_paths;
+}
+nav_msgs::Odometry lastOdom() {
+  std::lock_guard<std::mutex> lk(mu);
+  return odoms.back();
+}
 double diagValue(const std::string& k) {
   std::lock_guard<std::mutex> lk(mu);
   return diag.count(k) ? std::stod(diag[k]) : -1.0;
@@ -43,7 +63,7 @@ double diagValue(const std::string& k) {
 template <typename P>
 bool waitFor(P p, double s) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(s);
-  while (ros::ok() && ros::WallTime::now() < end && !p()) ros::WallDuration(0.005).sleep();
+  while (ros::ok() && ros::WallTime::now() < end && !p()) ros::WallDuration(0.002).sleep();
   return p();
 }
 
@@ -55,15 +75,51 @@ Eigen::Isometry3d baseToCamera() {
   return T;
 }
 
-}  // namespace
-
-TEST(EskfNodeletImuBase, MapAnchoredAtFirstBasePoseWithGyroPrediction) {
+// Shared by the tests (created in main after ros::init).
+struct Rig {
   ros::NodeHandle nh;
-  ros::Subscriber s1 = nh.subscribe("/eskf/odom", 1000, onOdom);
-  ros::Subscriber s2 = nh.subscribe("/diagnostics", 100, onDiag);
+  ros::Subscriber odom_sub = nh.subscribe("/eskf/odom", 5000, onOdom);
+  ros::Subscriber path_sub = nh.subscribe("/eskf/path", 100, onPath);
+  ros::Subscriber diag_sub = nh.subscribe("/diagnostics", 100, onDiag);
   ros::Publisher pub = nh.advertise<hapi_msgs::StereoLandmarks>("/eskf/landmarks", 10);
   ros::Publisher imu_pub = nh.advertise<sensor_msgs::Imu>("/imu/data", 200);
   tf2_ros::StaticTransformBroadcaster static_tf;
+  tf2_ros::Buffer buffer;
+  tf2_ros::TransformListener listener{buffer};
+  hapi_eskf_test::SyntheticScene scene;
+  ros::Time t0;
+  const double t_first = 0.05;  // scene time of the first frame (the filter's world)
+
+  // Gyro sample of the scene motion at scene time t, in imu_link axes: the
+  // body rate of R(t) = RotY(0.08 sin 0.8t) is 0.064 cos(0.8t) about the
+  // camera's y axis.
+  void publishImu(double t) {
+    sensor_msgs::Imu imu;
+    imu.header.stamp = t0 + ros::Duration(t);
+    imu.header.frame_id = "imu_link";
+    const Eigen::Vector3d w = baseToCamera().linear() * Eigen::Vector3d(0, 0.064 * std::cos(0.8 * t), 0);
+    imu.angular_velocity.x = w.x();
+    imu.angular_velocity.y = w.y();
+    imu.angular_velocity.z = w.z();
+    imu.orientation_covariance[0] = -1;
+    imu_pub.publish(imu);
+  }
+  // Truth of the camera in map (= first base pose): T_base_cam * T_c0_ct.
+  Eigen::Isometry3d truth(double t) const { return baseToCamera() * scene.pose(t_first).inverse() * scene.pose(t); }
+};
+Rig* rig = nullptr;
+
+Eigen::Vector3d position(const nav_msgs::Odometry& o) {
+  return {o.pose.pose.position.x, o.pose.pose.position.y, o.pose.pose.position.z};
+}
+Eigen::Quaterniond orientation(const nav_msgs::Odometry& o) {
+  return {o.pose.pose.orientation.w, o.pose.pose.orientation.x, o.pose.pose.orientation.y,
+          o.pose.pose.orientation.z};
+}
+
+}  // namespace
+
+TEST(EskfNodeletImuBase, MapAnchoredAtFirstBasePoseWithGyroPrediction) {
   {
     std::vector<geometry_msgs::TransformStamped> mounts(2);
     const Eigen::Isometry3d T = baseToCamera();
@@ -82,67 +138,111 @@ TEST(EskfNodeletImuBase, MapAnchoredAtFirstBasePoseWithGyroPrediction) {
     mounts[1].child_frame_id = "imu_link";
     mounts[1].transform.translation.z = 0.3;
     mounts[1].transform.rotation.w = 1.0;
-    static_tf.sendTransform(mounts);
+    rig->static_tf.sendTransform(mounts);
   }
-  tf2_ros::Buffer buffer;
-  tf2_ros::TransformListener listener(buffer);
-  // Our own odom subscription must be connected too, or the first frame's
-  // output is lost and the lockstep below waits for nothing.
+  // Our own odom/path subscriptions must be connected too, or the first
+  // frame's output is lost and the lockstep below waits for nothing.
   ASSERT_TRUE(waitFor([&] {
-    return pub.getNumSubscribers() > 0 && imu_pub.getNumSubscribers() > 0 && s1.getNumPublishers() > 0;
+    return rig->pub.getNumSubscribers() > 0 && rig->imu_pub.getNumSubscribers() > 0 &&
+           rig->odom_sub.getNumPublishers() > 0 && rig->path_sub.getNumPublishers() > 0;
   }, 30.0));
-  ASSERT_TRUE(buffer.canTransform("base_link", kFrame, ros::Time(0), ros::Duration(5.0)));
+  ASSERT_TRUE(rig->buffer.canTransform("base_link", kFrame, ros::Time(0), ros::Duration(5.0)));
 
-  hapi_eskf_test::SyntheticScene scene;
-  const ros::Time t0 = ros::Time::now();
-  const Eigen::Matrix3d R_imu_cam = baseToCamera().linear();  // imu axes = base axes
-  const double t_first = 0.05;
+  rig->t0 = ros::Time::now();
   for (int i = 1; i <= 50; ++i) {
     const double t = 0.05 * i;
-    // 100 Hz gyro between the previous frame and this one: the body rate of
-    // R(t) = RotY(0.08 sin 0.8t) is 0.064 cos(0.8t) about the camera's y axis.
-    for (int k = 4; k >= 0; --k) {
-      const double ti = t - 0.01 * k;
-      sensor_msgs::Imu imu;
-      imu.header.stamp = t0 + ros::Duration(ti);
-      imu.header.frame_id = "imu_link";
-      const Eigen::Vector3d w = R_imu_cam * Eigen::Vector3d(0, 0.064 * std::cos(0.8 * ti), 0);
-      imu.angular_velocity.x = w.x();
-      imu.angular_velocity.y = w.y();
-      imu.angular_velocity.z = w.z();
-      imu.orientation_covariance[0] = -1;
-      imu_pub.publish(imu);
-    }
+    for (int k = 4; k >= 0; --k) rig->publishImu(t - 0.01 * k);  // 100 Hz up to this frame
     ros::WallDuration(0.01).sleep();
-    const std::size_t n = numOdom();
-    pub.publish(scene.frame(t, t0 + ros::Duration(t), kFrame));
-    ASSERT_TRUE(waitFor([&] { return numOdom() > n; }, 10.0)) << "frame " << i;
+    const std::size_t n = numPaths();
+    rig->pub.publish(rig->scene.frame(t, rig->t0 + ros::Duration(t), kFrame));
+    ASSERT_TRUE(waitFor([&] { return numPaths() > n; }, 10.0)) << "frame " << i;
   }
-  nav_msgs::Odometry last;
-  {
-    std::lock_guard<std::mutex> lk(mu);
-    last = odoms.back();
-  }
-  // odom is the camera pose in map = first base pose: T_map_cam = T_base_cam * T_c0_ct.
-  const double t_last = (last.header.stamp - t0).toSec();
-  const Eigen::Isometry3d truth = baseToCamera() * scene.pose(t_first).inverse() * scene.pose(t_last);
-  const Eigen::Vector3d p(last.pose.pose.position.x, last.pose.pose.position.y, last.pose.pose.position.z);
+  ASSERT_TRUE(waitFor([&] { return (lastOdom().header.stamp - rig->t0).toSec() > 2.5 - 1e-6; }, 5.0));
+  const nav_msgs::Odometry last = lastOdom();
+  // odom is the camera pose in map = first base pose.
+  const double t_last = (last.header.stamp - rig->t0).toSec();
+  const Eigen::Isometry3d truth = rig->truth(t_last);
+  const Eigen::Vector3d p = position(last);
   EXPECT_LT((p - truth.translation()).norm(), 0.05) << p.transpose() << " vs " << truth.translation().transpose();
-  const Eigen::Quaterniond q(last.pose.pose.orientation.w, last.pose.pose.orientation.x,
-                             last.pose.pose.orientation.y, last.pose.pose.orientation.z);
-  EXPECT_LT(Eigen::AngleAxisd(q.toRotationMatrix().transpose() * truth.linear()).angle(), 0.02);
+  EXPECT_LT(Eigen::AngleAxisd(orientation(last).toRotationMatrix().transpose() * truth.linear()).angle(), 0.02);
 
   // TF: map -> base_link is published (the camera keeps its base_link parent),
   // and map -> camera through it equals the odometry.
   std::string err;
-  ASSERT_TRUE(buffer.canTransform("map", kFrame, last.header.stamp, ros::Duration(3.0), &err)) << err;
-  const auto t = buffer.lookupTransform("map", kFrame, last.header.stamp);
+  ASSERT_TRUE(rig->buffer.canTransform("map", kFrame, last.header.stamp, ros::Duration(3.0), &err)) << err;
+  const auto t = rig->buffer.lookupTransform("map", kFrame, last.header.stamp);
   EXPECT_NEAR(t.transform.translation.x, p.x(), 1e-6);
   EXPECT_NEAR(t.transform.translation.z, p.z(), 1e-6);
-  EXPECT_TRUE(buffer._frameExists("base_link"));
+  EXPECT_TRUE(rig->buffer._frameExists("base_link"));
 
   // The gyro drove the prediction.
   EXPECT_TRUE(waitFor([] { return diagValue("imu_samples_used") > 100; }, 5.0)) << diagValue("imu_samples_used");
+}
+
+// 10 Hz frames, 100 Hz gyro published ahead of the frames (as a real IMU is,
+// the front end adding latency): every gyro sample yields one odometry (and
+// TF) output with its stamp, i.e. the output rate is the IMU rate (>= 40 Hz
+// required), counted in stamp time so the machine's speed does not matter.
+TEST(EskfNodeletImuBase, OdometryAndTfAtImuRate) {
+  const double t_start = 2.5;  // where the first test stopped
+  const int n_frames = 20;
+  std::vector<ros::Time> imu_stamps;
+  double max_pos_err = 0.0, max_rot_err = 0.0, max_gyro_err = 0.0;
+  for (int f = 1; f <= n_frames; ++f) {
+    const double t_frame = t_start + 0.1 * f;
+    for (int k = 9; k >= 0; --k) {
+      const double ti = t_frame - 0.01 * k;
+      const ros::Time stamp = rig->t0 + ros::Duration(ti);
+      rig->publishImu(ti);
+      imu_stamps.push_back(stamp);
+      ASSERT_TRUE(waitFor([&] { return lastOdom().header.stamp >= stamp; }, 10.0)) << "no output for IMU at " << ti;
+      const nav_msgs::Odometry o = lastOdom();
+      ASSERT_EQ(o.header.stamp, stamp);  // exactly one output, at the sample's stamp
+      const Eigen::Isometry3d truth = rig->truth(ti);
+      max_pos_err = std::max(max_pos_err, (position(o) - truth.translation()).norm());
+      max_rot_err = std::max(
+          max_rot_err, Eigen::AngleAxisd(orientation(o).toRotationMatrix().transpose() * truth.linear()).angle());
+      // Twist in the camera frame: the angular part is the gyro rate rotated
+      // into the camera (imu_link -> camera through TF).
+      max_gyro_err = std::max(max_gyro_err, std::abs(o.twist.twist.angular.y - 0.064 * std::cos(0.8 * ti)));
+      EXPECT_GT(o.twist.covariance[35], 0.0);
+    }
+    const std::size_t n = numPaths();
+    rig->pub.publish(rig->scene.frame(t_frame, rig->t0 + ros::Duration(t_frame), kFrame));
+    ASSERT_TRUE(waitFor([&] { return numPaths() > n; }, 10.0)) << "frame at " << t_frame;
+  }
+  // Outputs in the stamp span of this test: one per gyro sample, strictly increasing.
+  std::vector<double> out;
+  {
+    std::lock_guard<std::mutex> lk(mu);
+    for (const auto& o : odoms)
+      if (o.header.stamp >= imu_stamps.front()) out.push_back(o.header.stamp.toSec());
+  }
+  ASSERT_EQ(out.size(), imu_stamps.size());
+  for (std::size_t i = 1; i < out.size(); ++i) ASSERT_GT(out[i], out[i - 1]);
+  const double rate = (out.size() - 1) / (out.back() - out.front());
+  EXPECT_GE(rate, 40.0);
+  std::printf("[eskf imu rostest] %zu outputs, %.1f Hz (stamp time) with 10 Hz frames; max err %.4f m %.4f rad, "
+              "gyro %.2e rad/s\n", out.size(), rate, max_pos_err, max_rot_err, max_gyro_err);
+  EXPECT_LT(max_pos_err, 0.05);
+  EXPECT_LT(max_rot_err, 0.02);
+  EXPECT_LT(max_gyro_err, 1e-6);
+
+  // TF between frames: map -> camera at an IMU stamp equals that output.
+  const ros::Time mid = imu_stamps[imu_stamps.size() - 5];
+  std::string err;
+  ASSERT_TRUE(rig->buffer.canTransform("map", kFrame, mid, ros::Duration(3.0), &err)) << err;
+  nav_msgs::Odometry at_mid;
+  {
+    std::lock_guard<std::mutex> lk(mu);
+    for (const auto& o : odoms)
+      if (o.header.stamp == mid) at_mid = o;
+  }
+  const auto tf = rig->buffer.lookupTransform("map", kFrame, mid);
+  EXPECT_NEAR(tf.transform.translation.x, at_mid.pose.pose.position.x, 1e-6);
+  EXPECT_NEAR(tf.transform.translation.y, at_mid.pose.pose.position.y, 1e-6);
+  EXPECT_NEAR(tf.transform.translation.z, at_mid.pose.pose.position.z, 1e-6);
+  EXPECT_TRUE(waitFor([] { return diagValue("imu_rate_outputs") >= 200; }, 5.0)) << diagValue("imu_rate_outputs");
 }
 
 int main(int argc, char** argv) {
@@ -150,7 +250,13 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "test_eskf_nodelet_imu_base");
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  const int rc = RUN_ALL_TESTS();
+  int rc;
+  {
+    Rig r;
+    rig = &r;
+    rc = RUN_ALL_TESTS();
+    rig = nullptr;
+  }
   spinner.stop();
   return rc;
 }

@@ -4,7 +4,9 @@
 // they post the frame into a newest-wins Mailbox. One worker thread owns the
 // filter (all Eskf calls, so GPU work never blocks a callback), publishes
 // odom/pose/path/TF per frame and refreshes the map snapshot that a wall
-// timer publishes at ~map_publish_rate.
+// timer publishes at ~map_publish_rate. With ~use_imu the IMU callback also
+// wakes the worker, which publishes odom/pose/TF once per gyro sample from a
+// propagated copy of the pose (pose_propagator.hpp): outputs at the IMU rate.
 //
 // Resets (service ~reset, or a stamp jumping backwards by more than
 // ~time_jump_reset) bump an epoch; frames carry the epoch they were accepted
@@ -16,10 +18,12 @@
 #include "hapi_eskf/ros/export.hpp"
 #include "hapi_eskf/ros/mailbox.hpp"
 #include "hapi_eskf/ros/params.hpp"
+#include "hapi_eskf/ros/pose_propagator.hpp"
 #include "hapi_eskf/ros/validation.hpp"
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <hapi_msgs/StereoLandmarks.h>
+#include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
@@ -49,10 +53,12 @@ class EskfNodelet : public nodelet::Nodelet {
   struct Work {
     StereoFrame frame;
     std::string frame_id;
+    ros::Time stamp;  // the message's own stamp: outputs carry it exactly (no double round trip)
     std::uint64_t epoch = 0;
   };
   struct ImuSample {
     double stamp;
+    ros::Time ros_stamp;  // exact, for the output header
     Vec3 gyro_camera;
   };
   // Sums of the per-stage timings since the last diagnostics report.
@@ -77,8 +83,11 @@ class EskfNodelet : public nodelet::Nodelet {
   bool ensureFilter(const Work& w);
   bool anchorWorld(const Work& w);
   void applyImu(double up_to);
+  void propagateImu();  // IMU-rate output between frames (~use_imu)
   bool process(Work& w);  // false: frame not used (error counted)
-  void publishState(const std::string& camera_frame);
+  nav_msgs::Odometry makeOdometry(const ros::Time& stamp, const PoseState& pose, const Mat12& C) const;
+  void publishOutput(const nav_msgs::Odometry& odom);  // odom, pose, TF
+  void recordPath(const nav_msgs::Odometry& odom);     // trajectory (TUM) + path, per frame
   void takeSnapshot();
 
   void reject(ros_glue::Reject r, const std::string& detail);
@@ -118,6 +127,12 @@ class EskfNodelet : public nodelet::Nodelet {
   Eigen::Isometry3d T_map_world_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_cam_base_ = Eigen::Isometry3d::Identity();
   ros::Time last_stamp_;
+  std::string output_frame_;  // camera frame of the last processed frame
+  // ~use_imu: copy of the pose re-based on the filter after every frame and
+  // stepped by every newer gyro sample; outputs (odom, pose, TF) are published
+  // with strictly increasing stamps (last_output_stamp_).
+  std::unique_ptr<ros_glue::PosePropagator> propagator_;
+  double last_output_stamp_ = -1.0;
 
   // Shared outputs.
   std::mutex path_mu_;
@@ -133,7 +148,8 @@ class EskfNodelet : public nodelet::Nodelet {
 
   // Counters for /diagnostics.
   std::atomic<std::uint64_t> n_received_{0}, n_accepted_{0}, n_processed_{0}, n_resets_{0}, n_time_jumps_{0},
-      n_update_skips_{0}, n_filter_errors_{0}, n_stale_{0}, n_failed_{0}, n_imu_used_{0}, n_imu_dropped_{0};
+      n_update_skips_{0}, n_filter_errors_{0}, n_stale_{0}, n_failed_{0}, n_imu_used_{0}, n_imu_dropped_{0},
+      n_outputs_{0}, n_imu_outputs_{0};
   std::array<std::atomic<std::uint64_t>, ros_glue::kRejectCount> n_rejected_{};
   std::mutex stats_mu_;
   StageStats stages_;
@@ -141,7 +157,7 @@ class EskfNodelet : public nodelet::Nodelet {
   std::string backend_name_ = "none (waiting for the first frame)";
   std::size_t backend_memory_ = 0;
   int n_landmarks_ = 0;
-  std::uint64_t diag_prev_accepted_ = 0, diag_prev_processed_ = 0, diag_prev_rejected_ = 0, diag_prev_dropped_ = 0;
+  std::uint64_t diag_prev_outputs_ = 0, diag_prev_accepted_ = 0, diag_prev_processed_ = 0, diag_prev_rejected_ = 0, diag_prev_dropped_ = 0;
   ros::WallTime diag_prev_time_;
 };
 
