@@ -13,19 +13,22 @@ namespace bench {
 struct Ceilings {
   bool measured = false;
   std::string device;       // name, memory
-  double gemm_tflops = 0;   // best of several large square GEMMs
+  double gemm_tflops = 0;   // best of several large square GEMMs on random operands
   double copy_gbps = 0;     // (read + write) bytes / s of a large D2D copy
 };
 
 struct RankUpdateTiming {
   bool measured = false;
-  double syrk_ms = 0, gemm_ms = 0;  // median of a few runs
+  double syrk_ms = 0, gemm_ms = 0;  // median of a few runs, random A (as in the filter)
+  double gemm_zero_ms = 0;          // panelled GEMM with A = 0: the rate depends on the data (power)
+  double trsm_ms = 0;               // A <- A L^-T (update step 3), same n x k, L k x k
   double flops = 0;                 // n^2 k (one triangle, multiply-add = 2 flops)
   double bytes = 0;                 // lower triangle read + written once, A read once
 };
 
 // false (and *why) without CUDA or device.
 bool measureCeilings(bool fp32, Ceilings* out, std::string* why);
+// Also times the TRSM of update step 3 with the same shape.
 // Allocates its own n x n and n x k buffers (call while no backend is alive
 // when n is large); false if they do not fit.
 bool measureRankUpdate(bool fp32, int n, int k, RankUpdateTiming* out, std::string* why);

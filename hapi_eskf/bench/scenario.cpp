@@ -166,10 +166,25 @@ StageTimes Scenario::iterate() {
   std::vector<int> evict(cand.begin(), cand.begin() + n_evict);
   std::sort(evict.begin(), evict.end());
   if (!check(b_->removeLandmarks(evict), "removal", &st)) return st;
-  for (auto it = evict.rbegin(); it != evict.rend(); ++it) {
-    positions_.erase(positions_.begin() + *it);
-    desc_.erase(desc_.begin() + *it);
-    last_seen_.erase(last_seen_.begin() + *it);
+  // The host mirror (positions, descriptors, ages) compacted the same way: one
+  // pass, O(K), not one erase (O(K) each) per evicted landmark.
+  {
+    std::size_t w = 0, e = 0;
+    for (std::size_t k = 0; k < positions_.size(); ++k) {
+      if (e < evict.size() && static_cast<std::size_t>(evict[e]) == k) {
+        ++e;
+        continue;
+      }
+      if (w != k) {
+        positions_[w] = positions_[k];
+        desc_[w].swap(desc_[k]);
+        last_seen_[w] = last_seen_[k];
+      }
+      ++w;
+    }
+    positions_.resize(w);
+    desc_.resize(w);
+    last_seen_.resize(w);
   }
   st.n_removed = n_evict;
   if (!evict.empty()) {

@@ -230,8 +230,9 @@ TEST(CudaBackend, LargePoolRemovalAndGatherMatchCpu) {
   Rng r(6);
   BackendPair p(1500, 32);
   ASSERT_TRUE(p.gpu);
-  ASSERT_EQ(p.cpu->reset(r.spd12(0.01)), Status::kOk);
-  ASSERT_EQ(p.gpu->reset(r.spd12(0.01)), Status::kOk);
+  const Mat12 C0 = r.spd12(0.01);
+  ASSERT_EQ(p.cpu->reset(C0), Status::kOk);
+  ASSERT_EQ(p.gpu->reset(C0), Status::kOk);
   p.addRandom(r, 1400);
   p.expectStatesEqual(kTol, "add 1400");
 
