@@ -55,12 +55,19 @@ rosparam get /rosdistro >/dev/null 2>&1 || die "roscore did not start"
 roslaunch hapi_slam all_in_one.launch rviz:=false >"$OUT/system.log" 2>&1 &
 LAUNCH_PID=$!
 PIDS+=("$LAUNCH_PID")
-for _ in $(seq 120); do rosnode list 2>/dev/null | grep -qx /eskf && rosnode list | grep -qx /stereo_frontend && break; sleep 0.5; done
-rosnode list | grep -qx /eskf || die "back end did not start (see $OUT/system.log)"
+# Both nodelets registered (one rosnode call per try: a loaded machine can
+# make a single master query fail, so only a result counts, never an error).
+UP=0
+for _ in $(seq 120); do
+  nodes="$(rosnode list 2>/dev/null || true)"
+  if grep -qx /eskf <<<"$nodes" && grep -qx /stereo_frontend <<<"$nodes"; then UP=1; break; fi
+  sleep 0.5
+done
+[ "$UP" = 1 ] || die "front end / back end did not start within 60 s (see $OUT/system.log)"
 # The manager's process: the child of our roslaunch started as __name:=hapi_manager.
 MGR_PID=""
 for p in $(pgrep -P "$LAUNCH_PID"); do
-  if tr '\0' ' ' <"/proc/$p/cmdline" | grep -q "__name:=hapi_manager"; then MGR_PID="$p"; fi
+  if grep -q "__name:=hapi_manager" <<<"$(tr '\0' ' ' <"/proc/$p/cmdline")"; then MGR_PID="$p"; fi
 done
 [ -n "$MGR_PID" ] || die "nodelet manager process not found"
 log "manager pid $MGR_PID; looping $BAG for $DURATION s, sampling every $PERIOD s"

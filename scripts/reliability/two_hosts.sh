@@ -64,11 +64,21 @@ PLAYER=/usr/lib/rosbag/play   # the player itself (not the Python wrapper): $! i
 
 PIDS=()
 DELAY_LINE_PID=""
+stop_pid() {  # SIGINT, up to 15 s to shut down (roslaunch stops its nodes), then SIGKILL
+  kill -INT "$1" 2>/dev/null || return 0
+  for _ in $(seq 30); do kill -0 "$1" 2>/dev/null || return 0; sleep 0.5; done
+  kill -KILL "$1" 2>/dev/null
+}
 cleanup() {
   set +e
-  for ((i = ${#PIDS[@]} - 1; i >= 0; i--)); do kill -INT "${PIDS[$i]}" 2>/dev/null; done
-  sleep 3
-  for p in "${PIDS[@]}"; do kill -KILL "$p" 2>/dev/null; done
+  # Newest first, the link and the master last: nodes shut down cleanly
+  # only while they can still reach the master.
+  for ((i = ${#PIDS[@]} - 1; i >= 0; i--)); do stop_pid "${PIDS[$i]}"; done
+  # Whatever still runs inside our namespaces (e.g. a node orphaned by a
+  # killed roslaunch) is ours: `ip netns pids` names exactly those.
+  for ns in "$NS_R" "$NS_S"; do
+    for p in $(ip netns pids "$ns" 2>/dev/null); do kill -KILL "$p" 2>/dev/null; done
+  done
   [ -n "$DELAY_LINE_PID" ] && kill -TERM "$DELAY_LINE_PID" 2>/dev/null && wait "$DELAY_LINE_PID" 2>/dev/null
   ip netns del "$NS_R" 2>/dev/null
   ip netns del "$NS_S" 2>/dev/null
@@ -112,7 +122,7 @@ else
 fi
 log "link $IP_R <-> $IP_S: $IMPAIR"
 if command -v ping >/dev/null; then
-  ip netns exec "$NS_R" ping -c 40 -i 0.05 -q "$IP_S" | tail -2 >"$OUT/ping.txt" || true
+  ip netns exec "$NS_R" ping -c 100 -i 0.02 -q "$IP_S" | tail -2 >"$OUT/ping.txt" || true
   sed "s/^/[two_hosts] ping: /" "$OUT/ping.txt"
 fi
 
@@ -145,7 +155,7 @@ start_robot() {
   PIDS+=("$ROBOT_PID")
 }
 start_robot
-has_node() { server rosnode list | grep -qx "$1"; }
+has_node() { grep -qx "$1" <<<"$(server rosnode list 2>/dev/null)"; }
 wait_for 90 "the back end (/eskf)" has_node /eskf
 wait_for 90 "the front end (/stereo_frontend), seen from the server" has_node /stereo_frontend
 # The back end's manager process: the same pid from start to end proves the
