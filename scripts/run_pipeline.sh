@@ -62,6 +62,7 @@ REPORT="$RUN_DIR/report.yaml"
 DIAG="$RUN_DIR/diagnostics.bag"
 LOG="$RUN_DIR/pipeline.log"
 rm -f "$REPORT" "$DIAG" "$DIAG.active"
+: >"$LOG"
 
 export ROS_HOME="${ROS_HOME:-$WS/ros_home}"
 mkdir -p "$ROS_HOME"
@@ -115,11 +116,24 @@ timeout --signal=INT --kill-after=30 "$LIMIT" \
   roslaunch --wait hapi_slam replay.launch bag:="$BAG" evaluate:=true eval_output:="$REPORT" \
     record_diagnostics:="$DIAG" rviz:=false output:=log ${HAPI_REPLAY_ARGS:-} > >(trap "" INT; exec tee "$LOG") 2>&1 &
 LAUNCH_PID=$!
+# Watchdog: a node that dies (e.g. a nodelet rejecting its parameters at
+# start-up) would leave the evaluator waiting for odometry until its wall
+# limit; roslaunch reports it as "process has died", so stop at once instead.
+died=""
+while kill -0 "$LAUNCH_PID" 2>/dev/null; do
+  if died="$(grep -aoE '\[[A-Za-z0-9_.-]+\] process has died' "$LOG" 2>/dev/null | head -n1)" && [ -n "$died" ]; then
+    echo "[pipeline] ERROR: a node died during the run: $died (see $LOG and its node log)" >&2
+    kill -INT "$LAUNCH_PID" 2>/dev/null || true
+    break
+  fi
+  sleep 1
+done
 set +e
 wait "$LAUNCH_PID"
 rc=$?
 set -e
 LAUNCH_PID=""
+[ -z "$died" ] || exit 1
 trap - INT TERM
 [ "$rc" -eq 124 ] && echo "[pipeline] ERROR: run exceeded ${LIMIT} s and was stopped" >&2
 [ -s "$REPORT" ] || { echo "[pipeline] ERROR: the evaluator wrote no report (roslaunch exit $rc; log: $LOG)" >&2; exit 1; }
