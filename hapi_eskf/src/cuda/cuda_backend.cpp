@@ -32,8 +32,8 @@ Mat12Param toParam(const Mat12& M) {
 }
 
 // HAPI_ESKF_CUDA_RANK_UPDATE=syrk|gemm selects the C <- C - A A^T kernel
-// (default: panelled GEMM, measured faster than DSYRK on H100, see
-// docs/BENCHMARKS.md); the bench switches it to compare both.
+// (default: panelled GEMM; on the H100 faster than DSYRK for K = 4000..16000,
+// 2 % slower at K = 32000, docs/BENCHMARKS.md); the bench times both.
 RankUpdate rankUpdateFromEnv() {
   const char* e = std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE");
   if (e != nullptr && std::string(e) == "syrk") return RankUpdate::kSyrk;
