@@ -53,8 +53,9 @@ def counter_key(samples):
     keys = [k for k in samples[-1][1] if COUNTER_RE.search(k) and "rate" not in k.lower()
             and "per" not in k.lower() and to_float(samples[-1][1][k]) is not None]
     for k in sorted(keys, key=lambda k: ("processed" not in k.lower(), k)):
-        vals = [to_float(s[1].get(k)) for s in samples]
-        if all(v is not None for v in vals) and all(b >= a for a, b in zip(vals, vals[1:])) and vals[-1] > 0:
+        # Samples without the key (a nodelet's first "starting" status) are skipped.
+        vals = [v for v in (to_float(s[1].get(k)) for s in samples) if v is not None]
+        if all(b >= a for a, b in zip(vals, vals[1:])) and vals[-1] > 0:
             return k
     return None
 
@@ -70,6 +71,9 @@ def stage_timings(diag):
         for _, vals in samples:
             if ck is not None:
                 c = to_float(vals.get(ck))
+                if c is None:  # no counter in this sample: no frames attributed to it
+                    weights.append(0.0)
+                    continue
                 weights.append(max(0.0, c - prev))
                 prev = c
             else:

@@ -39,6 +39,9 @@ def write_diag_bag(path):
     then an idle window (no new frames, the nodelet reports 0 ms)."""
     windows = [(10, 20.0, 0), (40, 40.0, 2), (40, 0.0, 2)]
     with rosbag.Bag(path, "w") as bag:
+        # A nodelet's first status may carry no values yet: it must not make
+        # the counter unusable (then every window would weigh the same).
+        bag.write("/diagnostics", DiagnosticArray(status=[status("eskf: filter")]), rospy.Time(99))
         for i, (processed, t_ms, dropped) in enumerate(windows):
             arr = DiagnosticArray()
             arr.status.append(status("eskf: filter", frames_processed=processed, frames_received=processed + dropped,
