@@ -1,0 +1,163 @@
+// rostest (eskf_nodelet_startup.test): parameters are validated at start-up
+// with a clear FATAL message and the nodelet refuses to load; ~backend=cuda
+// without a usable GPU is fatal with ~allow_cpu_fallback:=false and a loudly
+// logged fallback to the CPU backend (reported in /diagnostics) otherwise.
+#include "hapi_eskf/covariance_backend.hpp"
+#include "synthetic_frames.hpp"
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <nav_msgs/Odometry.h>
+#include <nodelet/NodeletList.h>
+#include <nodelet/NodeletLoad.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <mutex>
+
+namespace {
+
+std::mutex mu;
+std::vector<rosgraph_msgs::Log> logs;
+std::map<std::string, std::map<std::string, std::string>> diag;  // status name -> values
+
+void onLog(const rosgraph_msgs::Log::ConstPtr& m) {
+  std::lock_guard<std::mutex> lk(mu);
+  logs.push_back(*m);
+}
+void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+  std::lock_guard<std::mutex> lk(mu);
+  for (const auto& s : m->status)
+    for (const auto& kv : s.values) diag[s.name][kv.key] = kv.value;
+}
+template <typename P>
+bool waitFor(P p, double s) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(s);
+  while (ros::ok() && ros::WallTime::now() < end && !p()) ros::WallDuration(0.01).sleep();
+  return p();
+}
+// A /rosout message of at least `level` containing `text`.
+bool logged(std::uint8_t level, const std::string& text, double timeout = 5.0) {
+  return waitFor([&] {
+    std::lock_guard<std::mutex> lk(mu);
+    return std::any_of(logs.begin(), logs.end(), [&](const rosgraph_msgs::Log& l) {
+      return l.level >= level && l.msg.find(text) != std::string::npos;
+    });
+  }, timeout);
+}
+std::string diagValue(const std::string& nodelet, const std::string& key) {
+  std::lock_guard<std::mutex> lk(mu);
+  for (const auto& s : diag)
+    if (s.first.find(nodelet) != std::string::npos && s.second.count(key)) return s.second.at(key);
+  return "";
+}
+
+bool load(const std::string& name) {
+  nodelet::NodeletLoad srv;
+  srv.request.name = name;
+  srv.request.type = "hapi_eskf/EskfNodelet";
+  const bool called = ros::service::call("/manager/load_nodelet", srv);
+  return called && srv.response.success;
+}
+std::vector<std::string> loaded() {
+  nodelet::NodeletList srv;
+  if (!ros::service::call("/manager/list", srv)) return {"<manager not answering>"};
+  return srv.response.nodelets;
+}
+bool isLoaded(const std::string& name) {
+  const auto l = loaded();
+  return std::find(l.begin(), l.end(), name) != l.end();
+}
+
+}  // namespace
+
+TEST(EskfNodeletStartup, InvalidParametersRefuseToLoadWithAClearError) {
+  struct Case {
+    std::string name, expected;
+  };
+  ros::param::set("/bad_rate/map_publish_rate", 0.0);
+  ros::param::set("/bad_type/max_landmarks", std::string("many"));
+  ros::param::set("/bad_backend/backend", std::string("gpu"));
+  ros::param::set("/bad_frames/camera_frame", std::string("map"));  // = world_frame
+  ros::param::set("/bad_filter/gate_chi2", -1.0);
+  const std::vector<Case> cases = {
+      {"/bad_rate", "~map_publish_rate must be in (0, 100] Hz"},
+      {"/bad_type", "parameter ~max_landmarks has the wrong type"},
+      {"/bad_backend", "~backend must be 'cpu' or 'cuda', got 'gpu'"},
+      {"/bad_frames", "~camera_frame must differ from ~world_frame"},
+      {"/bad_filter", "gate_chi2"},
+  };
+  for (const Case& c : cases) {
+    EXPECT_FALSE(load(c.name)) << c.name << " loaded despite an invalid parameter";
+    EXPECT_TRUE(logged(rosgraph_msgs::Log::FATAL, "invalid parameters: " + c.expected)) << c.name;
+    EXPECT_FALSE(isLoaded(c.name)) << c.name;
+  }
+  // The manager survived every refusal and still loads a valid nodelet.
+  EXPECT_TRUE(load("/good"));
+  EXPECT_TRUE(isLoaded("/good"));
+}
+
+TEST(EskfNodeletStartup, CudaWithoutDeviceIsFatalOrAnAnnouncedCpuFallback) {
+  std::string why;
+  const bool cuda = hapi_eskf::cudaBackendAvailable(&why);
+  std::printf("[startup rostest] CUDA backend available: %s (%s)\n", cuda ? "yes" : "no", why.c_str());
+
+  ros::param::set("/cuda_strict/backend", std::string("cuda"));
+  ros::param::set("/cuda_strict/allow_cpu_fallback", false);
+  EXPECT_EQ(load("/cuda_strict"), cuda);
+  if (!cuda) EXPECT_TRUE(logged(rosgraph_msgs::Log::FATAL, "~allow_cpu_fallback is false"));
+
+  ros::param::set("/cuda_fallback/backend", std::string("cuda"));
+  ros::param::set("/cuda_fallback/allow_cpu_fallback", true);
+  ros::param::set("/cuda_fallback/diagnostics_period", 0.2);
+  ASSERT_TRUE(load("/cuda_fallback"));
+  if (!cuda) EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "FALLING BACK TO THE CPU BACKEND"));
+
+  // It runs: frames in, odometry out, and /diagnostics names the backend used.
+  ros::NodeHandle nh;
+  std::size_t n_odom = 0;
+  ros::Subscriber s = nh.subscribe<nav_msgs::Odometry>("/cuda_fallback/odom", 10, [&](const nav_msgs::Odometry::ConstPtr&) {
+    std::lock_guard<std::mutex> lk(mu);
+    ++n_odom;
+  });
+  ros::Publisher pub = nh.advertise<hapi_msgs::StereoLandmarks>("/cuda_fallback/landmarks", 10);
+  ASSERT_TRUE(waitFor([&] { return pub.getNumSubscribers() > 0 && s.getNumPublishers() > 0; }, 20.0));
+  hapi_eskf_test::SyntheticScene scene;
+  const ros::Time t0 = ros::Time::now();
+  for (int i = 1; i <= 5; ++i) {
+    pub.publish(scene.frame(0.05 * i, t0 + ros::Duration(0.05 * i), "stereo_left_optical_frame"));
+    ros::WallDuration(0.1).sleep();
+  }
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> lk(mu);
+    return n_odom > 0;
+  }, 20.0));
+  ASSERT_TRUE(waitFor([] { return diagValue("cuda_fallback", "backend").rfind("none", 0) != 0 &&
+                                  !diagValue("cuda_fallback", "backend").empty(); }, 10.0));
+  const std::string backend = diagValue("cuda_fallback", "backend");
+  std::printf("[startup rostest] /cuda_fallback runs on backend '%s'\n", backend.c_str());
+  if (cuda)
+    EXPECT_NE(backend.find("cuda"), std::string::npos) << backend;
+  else
+    EXPECT_NE(backend.find("cpu"), std::string::npos) << backend;
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_eskf_nodelet_startup");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ros::Subscriber s1 = nh.subscribe("/rosout", 1000, onLog);  // rostest runs no rosout node: listen to the nodes directly
+  ros::Subscriber s2 = nh.subscribe("/diagnostics", 100, onDiag);
+  // Connected to the manager's /rosout (our own node is the other publisher).
+  waitFor([&] { return s1.getNumPublishers() >= 2; }, 20.0);
+  ros::WallDuration(0.5).sleep();
+  ros::service::waitForService("/manager/load_nodelet", 20000);
+  const int rc = RUN_ALL_TESTS();
+  spinner.stop();
+  return rc;
+}
