@@ -14,8 +14,9 @@ point-to-point addresses, and relays every IP packet from one to the other
 after a fixed delay, dropping each packet independently with probability
 loss/100 in each direction (the netem model: i.i.d. loss, constant delay).
 
-Runs until SIGINT/SIGTERM; then writes per-direction counters (packets and
-bytes forwarded, packets dropped) to --stats as JSON. Root only.
+Runs until SIGINT/SIGTERM. Writes per-direction counters (packets and bytes
+forwarded, packets dropped) to --stats as JSON every second and on exit.
+Root only.
 """
 import argparse
 import fcntl
@@ -87,8 +88,14 @@ def main():
     poller = select.poll()
     poller.register(fd_a, select.POLLIN)
     poller.register(fd_b, select.POLLIN)
+    next_dump = time.monotonic() + 1.0
     while not stop:
         now = time.monotonic()
+        if now >= next_dump:
+            # Counters while running: the caller reads them with the link
+            # still up (its nodes need the link to shut down cleanly).
+            write_stats(args, stats)
+            next_dump = now + 1.0
         while queue and queue[0][0] <= now:
             _, _, dst, pkt, d = heapq.heappop(queue)
             try:
@@ -118,11 +125,17 @@ def main():
                     continue
                 seq += 1
                 heapq.heappush(queue, (time.monotonic() + delay, seq, other[fd], pkt, d))
-    for d, s in stats.items():
-        s["loss_measured_pct"] = 100.0 * s["packets_dropped"] / s["packets_in"] if s["packets_in"] else 0.0
-    with open(args.stats, "w") as f:
-        json.dump({"delay_ms": args.delay_ms, "loss_pct": args.loss, "directions": stats}, f, indent=1)
+    write_stats(args, stats)
     return 0
+
+
+def write_stats(args, stats):
+    for s in stats.values():
+        s["loss_measured_pct"] = 100.0 * s["packets_dropped"] / s["packets_in"] if s["packets_in"] else 0.0
+    tmp = args.stats + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump({"delay_ms": args.delay_ms, "loss_pct": args.loss, "directions": stats}, f, indent=1)
+    os.replace(tmp, args.stats)  # readers never see a half-written file
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ filter, how many messages were rejected or dropped.
 import argparse
 import json
 import math
+import signal
 import sys
 import threading
 import time
@@ -74,14 +75,19 @@ def main():
     ap.add_argument("--odom", default="/eskf/odom")
     args = ap.parse_args(rospy.myargv()[1:])
     rospy.init_node("hapi_ros_probe", anonymous=True, disable_signals=True)
+    # SIGTERM/SIGINT end the watch early (the caller knows when its phase
+    # is over); what was seen so far is still written.
+    stop = []
+    signal.signal(signal.SIGTERM, lambda *_: stop.append(1))
+    signal.signal(signal.SIGINT, lambda *_: stop.append(1))
     probe = Probe(args.odom)
     start = time.time()
-    while time.time() - start < args.duration and not rospy.is_shutdown():
+    while time.time() - start < args.duration and not rospy.is_shutdown() and not stop:
         time.sleep(0.1)
     with probe.lock:
         odom, diag = list(probe.odom), dict(probe.diag)
     out = summarise(odom, start)
-    out["duration_s"] = args.duration
+    out["duration_s"] = time.time() - start
     out["diagnostics"] = diag
     out["odom"] = [[round(o[0] - start, 3), o[1], o[2], o[3], o[4]] for o in odom]
     with open(args.out, "w") as f:

@@ -14,8 +14,9 @@
 #   1. play the bag once: the system runs across the lossy link (odometry
 #      published; link losses and message drops reported);
 #   2. play it again (stamps jump backwards: the back end must reset) and
-#      kill + restart the front end HAPI_RESTART_AT s in (default 10):
-#      odometry must come back without touching the back end (same process);
+#      kill + restart the front end HAPI_RESTART_AT s in (default 10), bag
+#      looping for HAPI_AFTER_RESTART s more (default 25): odometry must come
+#      back without touching the back end (same process);
 #   3. play it in a loop for 1.6 bag lengths: the loop's backwards jump must
 #      reset the filter cleanly (first pose of the new timeline at the
 #      origin, odometry continues, no filter error).
@@ -31,6 +32,7 @@ unset PYTHONPATH PYTHONHOME VIRTUAL_ENV || true
 DELAY_MS="${HAPI_NET_DELAY_MS:-20}"
 LOSS="${HAPI_NET_LOSS:-5}"            # percent, each direction
 RESTART_AT="${HAPI_RESTART_AT:-10}"   # [s] into phase 2
+AFTER_RESTART="${HAPI_AFTER_RESTART:-25}"  # [s] phase 2 goes on after the restart command
 OUT="${HAPI_RUN_DIR:-$WS/reliability/two_hosts}"
 SFX="$$"                              # two concurrent runs never share a namespace
 NS_R="hapi_robot_$SFX" NS_S="hapi_server_$SFX"
@@ -158,6 +160,13 @@ start_robot
 has_node() { grep -qx "$1" <<<"$(server rosnode list 2>/dev/null)"; }
 wait_for 90 "the back end (/eskf)" has_node /eskf
 wait_for 90 "the front end (/stereo_frontend), seen from the server" has_node /stereo_frontend
+# The back end's TCPROS connection to the front end is made asynchronously
+# over the slow link (master -> publisherUpdate -> requestTopic -> connect);
+# frames published before it exists are never counted as sent.
+be_connected() {
+  grep -q "to: /stereo_frontend " <<<"$(server rosnode info /eskf 2>/dev/null | grep -A1 "topic: /stereo_frontend/landmarks")"
+}
+wait_for 90 "the back end's connection to the front end" be_connected
 # The back end's manager process: the same pid from start to end proves the
 # front end restart did not touch it.
 server_manager_pid() { pgrep -f "__name:=hapi_server_manager" | head -1; }
@@ -170,25 +179,35 @@ probe() {  # probe SECONDS NAME (background; PROBE_PID, PROBE_START)
     --out "$OUT/$2.json" >"$OUT/$2.log" 2>&1 &
   PROBE_PID=$!
 }
+end_probe() {  # the last messages cross the link, then the probe writes its JSON
+  sleep 3
+  kill -TERM "$PROBE_PID" 2>/dev/null || true
+  wait "$PROBE_PID" || true
+}
 play_bg() {  # play_bg [rosbag play options]: PLAY_PID
   # shellcheck disable=SC2086
-  ip netns exec "$NS_R" "${ENV_R[@]}" $PLAYER -q "$@" "$BAG" </dev/null >>"$OUT/rosbag.log" 2>&1 &
+  # -d 2: the front end's image subscriptions (set up through the master,
+  # across the link) get 2 s to connect before the first frame.
+  ip netns exec "$NS_R" "${ENV_R[@]}" $PLAYER -q -d 2 "$@" "$BAG" </dev/null >>"$OUT/rosbag.log" 2>&1 &
   PLAY_PID=$!
 }
 
 # Phase 1: one pass across the lossy link.
 log "phase 1: play the bag once"
-probe $((BAG_LEN + 8)) phase1
+probe $((BAG_LEN + 60)) phase1
 sleep 1
 play_bg
 wait "$PLAY_PID" || true
-wait "$PROBE_PID" || true
+end_probe
 
 # Phase 2: replay (time jump) and restart the front end RESTART_AT s in.
+# The bag plays in a loop here so that the restarted front end always has
+# images, however long its start over the slow link takes; the phase ends
+# AFTER_RESTART s after the restart command.
 log "phase 2: replay + front end restart after $RESTART_AT s"
-probe $((BAG_LEN + 10)) phase2
+probe $((RESTART_AT + AFTER_RESTART + 60)) phase2
 sleep 1
-play_bg
+play_bg -l
 sleep "$RESTART_AT"
 KILL_WALL="$(now_rel "$PROBE_START")"
 kill -INT "$ROBOT_PID"
@@ -196,20 +215,22 @@ wait "$ROBOT_PID" 2>/dev/null || true
 log "front end stopped at $KILL_WALL s of phase 2; restarting it"
 start_robot
 RESTART_WALL="$(now_rel "$PROBE_START")"
-wait "$PLAY_PID" || true
-wait "$PROBE_PID" || true
+sleep "$AFTER_RESTART"
+kill -INT "$PLAY_PID" 2>/dev/null || true
+wait "$PLAY_PID" 2>/dev/null || true
+end_probe
 kill -0 "$SERVER_PID" 2>/dev/null || die "the back end died during phase 2"
 
 # Phase 3: loop the bag (backwards jump at the loop point).
 LOOP_LEN=$((BAG_LEN * 16 / 10))
 log "phase 3: rosbag play -l for $LOOP_LEN s"
-probe $((LOOP_LEN + 6)) phase3
+probe $((LOOP_LEN + 60)) phase3
 sleep 1
 play_bg -l
 sleep "$LOOP_LEN"
 kill -INT "$PLAY_PID" 2>/dev/null || true
 wait "$PLAY_PID" 2>/dev/null || true
-wait "$PROBE_PID" || true
+end_probe
 kill -0 "$SERVER_PID" 2>/dev/null || die "the back end died during phase 3"
 MGR_PID_END="$(server_manager_pid)"
 
@@ -221,9 +242,7 @@ if [ "$LINK_KIND" = netem ]; then
     ip -n "$1" -s qdisc show dev "$2"
   done >"$OUT/netem_stats.txt"
 elif [ "$LINK_KIND" = tun ]; then
-  kill -TERM "$DELAY_LINE_PID"
-  wait "$DELAY_LINE_PID" 2>/dev/null || true
-  DELAY_LINE_PID=""
+  sleep 1.5   # delay_line.py rewrites link.json every second; the link stays up for the shutdown
 fi
 
 # ------------------------------------------------------------- verdict
