@@ -112,3 +112,39 @@ TEST(MeasurementModel, RedetectionNoiseAddedAcrossTheRay) {
   EXPECT_LT((C - expected).cwiseAbs().maxCoeff(), 1e-14);
   EXPECT_NEAR(r.dot((C - m.Cz) * r), 0.0, 1e-14);
 }
+
+// EskfSettings::bootstrap_landmarks: the frame that finds the pool empty adds
+// up to that many landmarks, later frames at most max_new_landmarks.
+TEST(Bootstrap, EmptyPoolFrameAddsBootstrapCount) {
+  EskfSettings s;
+  s.max_landmarks = 300;
+  s.max_new_landmarks = 10;
+  s.max_update_landmarks = 50;
+  s.bootstrap_landmarks = 40;
+  ASSERT_EQ(s.validate(), "");
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 4));
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  std::mt19937 rng(11);
+  auto frame = [&](double stamp) {
+    StereoFrame fr;
+    fr.stamp = stamp;
+    fr.descriptor_length = 4;
+    for (int i = 0; i < 60; ++i) {
+      StereoMeasurement m;
+      m.z = Vec3(0.01 * (i % 10) - 0.05, 0.01 * (i / 10) - 0.03, 0.5 + 0.001 * i);
+      m.Cz = 1e-6 * Mat3::Identity();
+      m.frontend_id = static_cast<uint32_t>(i);
+      m.response = static_cast<float>(i);
+      fr.measurements.push_back(m);
+      for (int b = 0; b < 4; ++b) fr.descriptors.push_back(static_cast<uint8_t>(rng()));  // all distinct
+    }
+    return fr;
+  };
+  IterationReport rep;
+  ASSERT_EQ(f.processFrame(frame(0.1), &rep), Status::kOk);
+  EXPECT_EQ(rep.n_added, 40);
+  ASSERT_EQ(f.processFrame(frame(0.2), &rep), Status::kOk);
+  EXPECT_LE(rep.n_added, 10);
+  s.bootstrap_landmarks = s.max_landmarks + 1;
+  EXPECT_NE(s.validate().find("bootstrap_landmarks"), std::string::npos);
+}

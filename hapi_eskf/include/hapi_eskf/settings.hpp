@@ -13,6 +13,10 @@ struct EskfSettings {
   // --- pool and per-iteration sizes (issue 3) ---
   int max_landmarks = 2000;          // K_max: capacity of the landmark pool
   int max_new_landmarks = 20;        // landmarks initialised per iteration
+  int bootstrap_landmarks = 0;       // landmarks initialised by a frame that finds the pool
+                                     // empty (start, reset): one well-spread base map instead
+                                     // of max_new_landmarks per frame over the first frames.
+                                     // 0 = max_new_landmarks (no special case)
   int max_update_landmarks = 200;    // old landmarks used per update (L)
   int max_frame_measurements = 4000;  // a frame with more measurements is rejected
                                       // (kCapacityExceeded): bounds the per-frame work

@@ -13,7 +13,8 @@
 //    then oldest id) that are not used in this frame's update are removed so
 //    that min(#candidates, ceil(full_pool_add_fraction * max_new_landmarks))
 //    new landmarks fit; new landmarks are the strongest unassociated
-//    measurements.
+//    measurements. A frame that finds the pool empty (start, reset) may add up
+//    to bootstrap_landmarks instead (settings.hpp).
 //  * The one error detected after state changes: a joint S that is not PD (or
 //    a non-finite correction) in the update. The update is then skipped
 //    (report.update_skipped), the prediction and the bookkeeping of this frame
@@ -266,8 +267,10 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // --- removal ---
   t0 = Clock::now();
   std::vector<int> add_meas;
+  const int max_add = numLandmarks() == 0 && settings_.bootstrap_landmarks > 0 ? settings_.bootstrap_landmarks
+                                                                               : settings_.max_new_landmarks;
   for (int i : by_response)
-    if (assoc.may_add[i] && static_cast<int>(add_meas.size()) < settings_.max_new_landmarks) add_meas.push_back(i);
+    if (assoc.may_add[i] && static_cast<int>(add_meas.size()) < max_add) add_meas.push_back(i);
   const int K = numLandmarks();
   const int free_slots = settings_.max_landmarks - K;
   int n_add = std::min<int>(static_cast<int>(add_meas.size()), free_slots);

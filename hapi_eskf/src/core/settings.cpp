@@ -38,6 +38,8 @@ std::string EskfSettings::validate() const {
     e << "sigma_acceleration must be > 0, got " << sigma_acceleration;
   else if (!finitePositive(sigma_angular_acceleration))
     e << "sigma_angular_acceleration must be > 0, got " << sigma_angular_acceleration;
+  else if (bootstrap_landmarks < 0 || bootstrap_landmarks > max_landmarks)
+    e << "bootstrap_landmarks must be in [0, max_landmarks], got " << bootstrap_landmarks;
   else if (ransac_iterations < 0 || ransac_iterations > 100000)
     e << "ransac_iterations must be in [0, 100000], got " << ransac_iterations;
   else if (!(std::isfinite(measurement_angular_sigma) && measurement_angular_sigma >= 0.0 &&

@@ -70,6 +70,7 @@ std::string loadParams(const ros::NodeHandle& pnh, NodeletParams* out) {
   std::string backend = toString(s.backend), precision = toString(s.precision);
   const bool ok =
       read(pnh, "max_landmarks", &s.max_landmarks, &err) && read(pnh, "max_new_landmarks", &s.max_new_landmarks, &err) &&
+      read(pnh, "bootstrap_landmarks", &s.bootstrap_landmarks, &err) &&
       read(pnh, "max_update_landmarks", &s.max_update_landmarks, &err) &&
       readDouble(pnh, "full_pool_add_fraction", &s.full_pool_add_fraction, &err) &&
       read(pnh, "backend", &backend, &err) && read(pnh, "precision", &precision, &err) &&

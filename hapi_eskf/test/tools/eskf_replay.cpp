@@ -40,7 +40,8 @@ bool setField(EskfSettings* s, const std::string& k, const std::string& v) {
                                    {"max_new_landmarks", &s->max_new_landmarks},
                                    {"max_update_landmarks", &s->max_update_landmarks},
                                    {"max_hamming", &s->max_hamming},
-                                   {"ransac_iterations", &s->ransac_iterations}};
+                                   {"ransac_iterations", &s->ransac_iterations},
+                                   {"bootstrap_landmarks", &s->bootstrap_landmarks}};
   std::map<std::string, double*> dbl{{"full_pool_add_fraction", &s->full_pool_add_fraction},
                                      {"match_ratio", &s->match_ratio},
                                      {"gate_chi2", &s->gate_chi2},
@@ -159,7 +160,7 @@ int main(int argc, char** argv) {
   int rep_n = 0;
   std::vector<double> rep_all, rep_limb, rep_face, lat_ang;
   int n_assoc = 0, n_wrong = 0, n_meas = 0, n_meas_out = 0;
-  double meas_nees = 0;
+  double meas_nees = 0, ray_bias = 0, ray_rel = 0;
   for (std::size_t fi = 0; fi < frames.size(); fi += every) {
     const Gt* g0 = nullptr;
     for (const Gt& g : gt)
@@ -175,6 +176,7 @@ int main(int argc, char** argv) {
         const Vec3 truth = (b - std::sqrt(disc)) * d;
         const Vec3 e = m.z - truth;
         const double nees = e.dot(m.Cz.ldlt().solve(e));
+        if (nees <= 100) { ray_bias += m.z.norm() - truth.norm(); ray_rel += (m.z.norm() - truth.norm()) / truth.norm(); }
         ++n_meas;
         if (nees > 100) ++n_meas_out; else meas_nees += nees;
       }
@@ -269,10 +271,18 @@ int main(int argc, char** argv) {
   const double ate = std::sqrt(se / est.size());
   double sm = 0;
   const auto lms = eskf.landmarks();
+  double sm1 = 0, smn = 0;
+  int n1 = 0, nn = 0, n_far = 0;
+  double d_mean = 0;
   for (const auto& l : lms) {
     const double d = (R * l.position + t - centre).norm() - radius;
     sm += d * d;
+    if (l.times_observed <= 1) { sm1 += d * d; ++n1; } else { smn += d * d; ++nn; }
+    n_far += std::abs(d) > 0.01;
+    d_mean += d / lms.size();
   }
+  std::printf("map: seen once %d (rms %.4f m), seen more %d (rms %.4f m), |d| > 1 cm: %d, mean signed %.4f m\n", n1,
+              n1 ? std::sqrt(sm1 / n1) : 0.0, nn, nn ? std::sqrt(smn / nn) : 0.0, n_far, d_mean);
   std::printf("frames=%d ate=%.4f m (%.2f %% of %.3f m) max=%.4f map_rms=%.4f m (%zu pts) mean_nis=%.2f mean_ms=%.1f\n",
               n_proc, ate, 100 * ate / dist, dist, emax, lms.empty() ? 0.0 : std::sqrt(sm / lms.size()), lms.size(),
               nis_n ? nis_sum / nis_n : 0.0, sum_t / n_proc);
@@ -305,8 +315,9 @@ int main(int argc, char** argv) {
                 1e3 * std::sqrt(lat_sq / rep_n), 1e3 * std::sqrt(lat_pred / rep_n));
   if (gtcheck)
     std::printf("gtcheck: associations %d wrong %d (%.1f %%); measurements %d, mean NEES vs true surface %.2f "
-                "(outliers > 100 or off-sphere: %d)\n",
+                "(outliers > 100 or off-sphere: %d); mean range error %.3f mm (%.3f %%)\n",
                 n_assoc, n_wrong, 100.0 * n_wrong / std::max(1, n_assoc), n_meas,
-                meas_nees / std::max(1, n_meas - n_meas_out), n_meas_out);
+                meas_nees / std::max(1, n_meas - n_meas_out), n_meas_out,
+                1e3 * ray_bias / std::max(1, n_meas - n_meas_out), 100 * ray_rel / std::max(1, n_meas - n_meas_out));
   return 0;
 }
