@@ -20,7 +20,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <set>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -37,6 +40,7 @@ struct Observer {
   std::vector<std::size_t> path_sizes;
   sensor_msgs::PointCloud2 map;
   int maps = 0;
+  std::vector<ros::WallTime> map_times;  // arrival of every map message
   std::map<std::string, std::string> diag;  // latest EskfNodelet status values
   int diags = 0;
 
@@ -52,6 +56,7 @@ struct Observer {
     std::lock_guard<std::mutex> lk(mu);
     map = *m;
     ++maps;
+    map_times.push_back(ros::WallTime::now());
   }
   void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
     std::lock_guard<std::mutex> lk(mu);
@@ -154,6 +159,84 @@ TEST(EskfNodelet, ProcessesSyntheticFrames) {
   EXPECT_EQ(obs->path_sizes.back(), 60u);
   std::printf("[eskf rostest] diagnostics: t_total_ms %s landmarks %s\n", obs->diag["t_total_ms"].c_str(),
               obs->diag["landmarks"].c_str());
+}
+
+// The map cloud: documented fields (x y z rgb sigma FLOAT32, id UINT32),
+// per-point content (finite, sigma > 0, the scene's colours, unique ids) and
+// the configured ~map_publish_rate (5 Hz in eskf_nodelet.test) as an upper
+// bound: never faster however fast frames come, at least one map per second.
+TEST(EskfNodelet, MapCloudFieldsContentAndConfiguredRate) {
+  sensor_msgs::PointCloud2 cloud;
+  {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    cloud = obs->map;
+  }
+  const std::vector<std::pair<std::string, std::uint8_t>> expected = {
+      {"x", sensor_msgs::PointField::FLOAT32},   {"y", sensor_msgs::PointField::FLOAT32},
+      {"z", sensor_msgs::PointField::FLOAT32},   {"rgb", sensor_msgs::PointField::FLOAT32},
+      {"sigma", sensor_msgs::PointField::FLOAT32}, {"id", sensor_msgs::PointField::UINT32}};
+  ASSERT_EQ(cloud.fields.size(), expected.size());
+  std::map<std::string, std::uint32_t> offset;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(cloud.fields[i].name, expected[i].first);
+    EXPECT_EQ(cloud.fields[i].datatype, expected[i].second) << expected[i].first;
+    EXPECT_EQ(cloud.fields[i].count, 1u);
+    offset[cloud.fields[i].name] = cloud.fields[i].offset;
+  }
+  ASSERT_GT(cloud.width, 20u);
+  ASSERT_EQ(cloud.data.size(), std::size_t(cloud.row_step) * cloud.height);
+  std::set<std::uint32_t> ids;
+  for (std::uint32_t i = 0; i < cloud.width; ++i) {
+    const std::uint8_t* pt = &cloud.data[i * cloud.point_step];
+    auto f32 = [&](const std::string& n) {
+      float v;
+      std::memcpy(&v, pt + offset[n], 4);
+      return v;
+    };
+    std::uint32_t rgb, id;
+    std::memcpy(&rgb, pt + offset["rgb"], 4);
+    std::memcpy(&id, pt + offset["id"], 4);
+    EXPECT_TRUE(std::isfinite(f32("x")) && std::isfinite(f32("y")) && std::isfinite(f32("z")));
+    EXPECT_GT(f32("z"), 0.0f) << "landmarks lie in front of the first camera";
+    EXPECT_TRUE(std::isfinite(f32("sigma")) && f32("sigma") > 0.0f && f32("sigma") < 0.5f) << f32("sigma");
+    EXPECT_EQ(rgb & 0xffu, 128u) << "blue channel of the synthetic scene (0x00RRGGBB)";
+    EXPECT_TRUE(ids.insert(id).second) << "duplicate id " << id;
+  }
+
+  // Frames as fast as they come for 2 s (no lockstep): maps at <= 5 Hz.
+  std::size_t maps0;
+  {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    maps0 = obs->map_times.size();
+  }
+  const ros::WallTime start = ros::WallTime::now();
+  while ((ros::WallTime::now() - start).toSec() < 2.0) {
+    publishGood(false);
+    ros::WallDuration(0.01).sleep();
+  }
+  const double window = (ros::WallTime::now() - start).toSec();
+  ros::WallDuration(0.1).sleep();
+  std::size_t maps;
+  {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    maps = obs->map_times.size() - maps0;
+  }
+  std::printf("[eskf rostest] %zu maps in %.2f s of input at ~100 Hz (map_publish_rate 5 Hz)\n", maps, window);
+  EXPECT_LE(maps, static_cast<std::size_t>(5.0 * window) + 2);
+  EXPECT_GE(maps, 2u);
+  // Diagnostics of the busy period: rates and per-stage timings are reported.
+  EXPECT_GT(obs->diagValue("input_rate_hz"), 5.0);
+  EXPECT_GT(obs->diagValue("processing_rate_hz"), 0.0);
+  EXPECT_GT(obs->diagValue("output_rate_hz"), 0.0);
+  EXPECT_GT(obs->diagValue("t_total_ms"), 0.0);
+  EXPECT_GT(obs->diagValue("t_update_ms"), 0.0);
+  EXPECT_GE(obs->diagValue("frames_dropped"), 0.0);
+  // Let the worker drain so the next tests start from an idle node.
+  const double t_last = t_scene;
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    return std::abs((obs->odoms.back().header.stamp - t0).toSec() - t_last) < 1e-6;
+  }, 10.0));
 }
 
 // A burst faster than the worker: newest wins. Every accepted frame is either
