@@ -204,6 +204,7 @@ TEST(EskfNodelet, MapCloudFieldsContentAndConfiguredRate) {
   }
 
   // Frames as fast as they come for 2 s (no lockstep): maps at <= 5 Hz.
+  const double dropped0 = obs->diagValue("frames_dropped");
   std::size_t maps0;
   {
     std::lock_guard<std::mutex> lk(obs->mu);
@@ -230,7 +231,13 @@ TEST(EskfNodelet, MapCloudFieldsContentAndConfiguredRate) {
   EXPECT_GT(obs->diagValue("output_rate_hz"), 0.0);
   EXPECT_GT(obs->diagValue("t_total_ms"), 0.0);
   EXPECT_GT(obs->diagValue("t_update_ms"), 0.0);
-  EXPECT_GE(obs->diagValue("frames_dropped"), 0.0);
+  // The callback never waits for the filter (GPU work stays on the worker):
+  // when a frame takes longer than the input period, the surplus shows up as
+  // counted mailbox drops, not as a blocked callback (whose ROS queue would
+  // discard messages silently). The condition keeps the check valid on a
+  // machine fast enough to keep up.
+  if (obs->diagValue("t_total_ms") > 25.0)
+    EXPECT_GT(obs->diagValue("frames_dropped"), dropped0) << "slow worker but no counted drops";
   // Let the worker drain so the next tests start from an idle node.
   const double t_last = t_scene;
   EXPECT_TRUE(waitFor([&] {
