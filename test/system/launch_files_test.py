@@ -113,6 +113,9 @@ class LaunchFilesTest(unittest.TestCase):
         self.assertNotIn("/evaluate_run", plain)
         self.assertNotIn("/record_diagnostics", plain)
         self.assertIn("--loop", nodes(load("replay.launch", "bag:=/b.bag", "loop:=true"))["/player"].args.split())
+        self.assertNotIn("--pause", plain["/player"].args.split())
+        # paused:=true (the rviz screenshot check resumes the player by its service)
+        self.assertIn("--pause", nodes(load("replay.launch", "bag:=/b.bag", "paused:=true"))["/player"].args.split())
 
     def test_replay_requires_bag(self):
         with self.assertRaises(Exception):
