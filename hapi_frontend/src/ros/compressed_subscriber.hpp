@@ -1,0 +1,38 @@
+// image_transport "compressed" subscriber plugin (sensor_msgs/CompressedImage,
+// JPEG or PNG, on <base topic>/compressed) for the front end.
+//
+// Why our own: the issue requires compressed transport through
+// image_transport, and Debian packages only the "raw" transport (no
+// compressed_image_transport). The plugin registers the standard lookup name
+// image_transport/compressed_sub, so ~image_transport: compressed works as on
+// any ROS install; where the upstream plugin is also installed, pluginlib
+// keeps the first class of that name it finds and either decodes the same
+// messages.
+#pragma once
+
+#include <image_transport/simple_subscriber_plugin.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
+
+#include <string>
+
+namespace hapi_frontend {
+
+// CompressedImage -> Image. The output encoding is the one named before ';'
+// in `format` ("rgb8; jpeg compressed bgr8" -> rgb8, as the upstream
+// publisher writes it) when it is mono8/mono16/bgr8/rgb8; otherwise it follows
+// the decoded data (1 channel: mono8/mono16, 3: bgr8, 4: bgra8, which the
+// front end rejects and counts). Undecodable data gives a 0x0 image with the
+// header kept, so the front end counts the pair as malformed instead of the
+// transport dropping it silently. Returns false (and *error) in that case.
+bool decodeCompressed(const sensor_msgs::CompressedImage& in, sensor_msgs::Image* out, std::string* error);
+
+class CompressedSubscriber : public image_transport::SimpleSubscriberPlugin<sensor_msgs::CompressedImage> {
+ public:
+  std::string getTransportName() const override { return "compressed"; }
+
+ protected:
+  void internalCallback(const sensor_msgs::CompressedImageConstPtr& message, const Callback& user_cb) override;
+};
+
+}  // namespace hapi_frontend
