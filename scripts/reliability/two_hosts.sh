@@ -163,8 +163,10 @@ wait_for 90 "the front end (/stereo_frontend), seen from the server" has_node /s
 # The back end's TCPROS connection to the front end is made asynchronously
 # over the slow link (master -> publisherUpdate -> requestTopic -> connect);
 # frames published before it exists are never counted as sent.
+# (Nodelets subscribe through their manager's node: /hapi_server_manager;
+# rosnode info lists only connected links under "Connections".)
 be_connected() {
-  grep -q "to: /stereo_frontend " <<<"$(server rosnode info /eskf 2>/dev/null | grep -A1 "topic: /stereo_frontend/landmarks")"
+  grep -q "topic: /stereo_frontend/landmarks" <<<"$(server rosnode info /hapi_server_manager 2>/dev/null | sed -n '/^Connections/,$p')"
 }
 wait_for 90 "the back end's connection to the front end" be_connected
 # The back end's manager process: the same pid from start to end proves the
