@@ -47,9 +47,8 @@ struct RunResult {
   int updated = 0, gated_out = 0, candidates = 0, frames = 0, added = 0, removed = 0;
 };
 
-RunResult runOnce(unsigned seed, int n_frames) {
+RunResult runOnce(unsigned seed, int n_frames, const EskfSettings& s) {
   std::mt19937 rng(seed);
-  const EskfSettings s = scenarioSettings();
   const sim::StereoRig rig;
   // Points all around the start, so every viewing direction the random walk
   // may turn to sees ~100 of them within the rig's depth range.
@@ -96,13 +95,13 @@ RunResult runOnce(unsigned seed, int n_frames) {
   return r;
 }
 
-TEST(Simulation, PoseAccurateAndNeesConsistentOver30MonteCarloRuns) {
+void checkMonteCarlo(const EskfSettings& s) {
   const int runs = 30, frames = 60;
   std::vector<double> nees_mean(frames, 0.0);
   double pos2 = 0, rot2 = 0, final_pos2 = 0;
   long updated = 0, gated = 0, candidates = 0, added = 0, removed = 0;
   for (int r = 0; r < runs; ++r) {
-    const RunResult res = runOnce(1000 + r, frames);
+    const RunResult res = runOnce(1000 + r, frames, s);
     ASSERT_EQ(res.frames, frames);
     for (int k = 0; k < frames; ++k) {
       nees_mean[k] += res.nees[k] / runs;
@@ -144,6 +143,19 @@ TEST(Simulation, PoseAccurateAndNeesConsistentOver30MonteCarloRuns) {
   // Observed: RMSE p 0.017 m, rot 0.0016 rad over 6 m of travel; bounds at ~3x.
   EXPECT_LT(rmse_p, 0.05);
   EXPECT_LT(rmse_r, 0.005);
+}
+
+TEST(Simulation, PoseAccurateAndNeesConsistentOver30MonteCarloRuns) { checkMonteCarlo(scenarioSettings()); }
+
+// The e2e configuration's association and start-up (config/eskf.yaml): the
+// RANSAC consistency step must keep the filter consistent (it only removes
+// pairs off the best rigid fit, ~1 % of the correct ones at chi^2 99 %) and a
+// larger first batch of landmarks must not change that.
+TEST(Simulation, ConsistentWithRansacAndBootstrap) {
+  EskfSettings s = scenarioSettings();
+  s.ransac_iterations = 200;
+  s.bootstrap_landmarks = 60;
+  checkMonteCarlo(s);
 }
 
 }  // namespace

@@ -1,17 +1,20 @@
 #include "hapi_eskf/association.hpp"
 
 #include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/so3.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
 
+#include <algorithm>
 #include <cstdint>
 #include <random>
 
 namespace hapi_eskf {
 namespace {
 
-// Least-squares rigid transform X ~ R Z + t over the given indices (Kabsch).
+// Least-squares rigid transform X ~ R Z + t over the given indices (Kabsch),
+// used for the 3-point hypotheses.
 void fitRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std::vector<int>& idx, Mat3* R, Vec3* t) {
   Vec3 mx = Vec3::Zero(), mz = Vec3::Zero();
   for (int i : idx) { mx += X[i]; mz += Z[i]; }
@@ -26,17 +29,63 @@ void fitRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std:
   *t = mx - *R * mz;
 }
 
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+// Residual e = X - (R Z + t) and its Jacobian w.r.t. [dtheta, dt] for the
+// update R <- Exp(dtheta) R, t <- t + dt: de/ddtheta = [R Z]x, de/ddt = -I.
+Eigen::Matrix<double, 3, 6> residualJacobian(const Mat3& R, const Vec3& z) {
+  Eigen::Matrix<double, 3, 6> J;
+  J << skew(R * z), -Mat3::Identity();
+  return J;
+}
+
+// Weighted Gauss-Newton refit of (R, t) on the given pairs with their full
+// covariances S_i = W_i + R C_z,i R^T (stereo points are very anisotropic, so
+// scalar weights would let the noisy depth direction spoil the rotation).
+// *P receives the 6x6 covariance of the fit. False when the normal equations
+// are singular.
+bool refineRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std::vector<Mat3>& W,
+                 const std::vector<Mat3>& Cz, const std::vector<int>& idx, Mat3* R, Vec3* t, Mat6* P) {
+  for (int it = 0; it < 5; ++it) {
+    Mat6 A = Mat6::Zero();
+    Vec6 g = Vec6::Zero();
+    for (int i : idx) {
+      const Mat3 S = W[i] + *R * Cz[i] * R->transpose();
+      const Mat3 Si = S.llt().solve(Mat3::Identity());
+      const Eigen::Matrix<double, 3, 6> J = residualJacobian(*R, Z[i]);
+      const Vec3 e = X[i] - (*R * Z[i] + *t);
+      A += J.transpose() * Si * J;
+      g += J.transpose() * Si * e;
+    }
+    Eigen::LDLT<Mat6> ldlt(A);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) return false;
+    const Vec6 d = -ldlt.solve(g);  // minimises |e + J d|^2_Si
+    if (!d.allFinite()) return false;
+    *R = quatExp(d.head<3>()).toRotationMatrix() * *R;
+    *t += d.tail<3>();
+    *P = ldlt.solve(Mat6::Identity());
+    if (d.norm() < 1e-10) break;
+  }
+  return true;
+}
+
 // Inlier flags of the hypothesis (R, t) and their count; *cost = sum of the
 // inliers' squared Mahalanobis distances (tie-break between equal counts).
+// P (optional): covariance of (R, t), added to each pair's S.
 int scoreRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std::vector<Mat3>& W,
-               const std::vector<Mat3>& Cz, const Mat3& R, const Vec3& t, double chi2, std::vector<char>* inl,
-               double* cost) {
+               const std::vector<Mat3>& Cz, const Mat3& R, const Vec3& t, const Mat6* P, double chi2,
+               std::vector<char>* inl, double* cost) {
   int n = 0;
   *cost = 0.0;
   inl->assign(X.size(), 0);
   for (std::size_t i = 0; i < X.size(); ++i) {
     const Vec3 e = X[i] - (R * Z[i] + t);
-    const Mat3 S = W[i] + R * Cz[i] * R.transpose();
+    Mat3 S = W[i] + R * Cz[i] * R.transpose();
+    if (P) {
+      const Eigen::Matrix<double, 3, 6> J = residualJacobian(R, Z[i]);
+      S += J * *P * J.transpose();
+    }
     Eigen::LLT<Mat3> llt(S);
     if (llt.info() != Eigen::Success) continue;
     const double d2 = llt.matrixL().solve(e).squaredNorm();
@@ -51,9 +100,10 @@ int scoreRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std
 
 }  // namespace
 
-// RANSAC over 3-point samples; then one refit on the inliers. Deterministic
-// (fixed seed, own index draw) so that every backend sees the same result.
-// Returns the inlier flags of the best fit, or empty when no hypothesis is
+// RANSAC over 3-point samples, then the best set is grown by Gauss-Newton
+// refits with full covariances (the fit's own uncertainty included in the
+// test). Deterministic (fixed seed, own index draw) so that every backend sees
+// the same result. Returns the inlier flags, or empty when no hypothesis is
 // supported by at least 3 pairs (then nothing is decided here).
 std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vector<Vec3>& Z,
                                      const std::vector<Mat3>& W, const std::vector<Mat3>& Cz, int iterations,
@@ -75,7 +125,7 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
     Vec3 t;
     fitRigid(X, Z, {a, b, c}, &R, &t);
     double cost;
-    const int k = scoreRigid(X, Z, W, Cz, R, t, chi2, &cur, &cost);
+    const int k = scoreRigid(X, Z, W, Cz, R, t, nullptr, chi2, &cur, &cost);
     if (k > best_n || (k == best_n && k > 0 && cost < best_cost)) {
       best_n = k;
       best_cost = cost;
@@ -83,14 +133,23 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
     }
   }
   if (best_n < 3) return {};
-  std::vector<int> idx;
-  for (int i = 0; i < n; ++i)
-    if (best[i]) idx.push_back(i);
-  Mat3 R;
-  Vec3 t;
-  fitRigid(X, Z, idx, &R, &t);
-  double cost;
-  if (scoreRigid(X, Z, W, Cz, R, t, chi2, &cur, &cost) >= best_n) best = cur;
+  // A 3-point hypothesis carries the noise of its sample: refit on the
+  // inliers and rescore until the set stops changing (a few rounds).
+  for (int round = 0; round < 4; ++round) {
+    std::vector<int> idx;
+    for (int i = 0; i < n; ++i)
+      if (best[i]) idx.push_back(i);
+    Mat3 R;
+    Vec3 t;
+    fitRigid(X, Z, idx, &R, &t);
+    Mat6 P;
+    if (!refineRigid(X, Z, W, Cz, idx, &R, &t, &P)) break;
+    double cost;
+    const int k = scoreRigid(X, Z, W, Cz, R, t, &P, chi2, &cur, &cost);
+    if (k < 3 || cur == best) break;
+    best_n = k;
+    best = cur;
+  }
   return best;
 }
 
