@@ -85,8 +85,13 @@ void StereoFrontendNodelet::onInit() {
   // subscribes to <image>/compressed through the plugin.
   const image_transport::TransportHints hints(params_.image_transport, ros::TransportHints(), pnh);
   try {
-    left_sub_.subscribe(*it_, "left/image_raw", q, hints);
-    right_sub_.subscribe(*it_, "right/image_raw", q, hints);
+    // Resolve (and so remap) the base topics here: a transport plugin
+    // subscribes to "<base>/compressed", a name the nodelet's remapping of
+    // left/image_raw does not match, so with an unresolved base the compressed
+    // front end listened on /left/image_raw/compressed whatever the launch file
+    // remapped (frontend_inputs.test caught it).
+    left_sub_.subscribe(*it_, nh.resolveName("left/image_raw"), q, hints);
+    right_sub_.subscribe(*it_, nh.resolveName("right/image_raw"), q, hints);
   } catch (const std::exception& ex) {
     // pluginlib throws when the transport plugin is not installed (Debian
     // ships only "raw"; "compressed" needs compressed_image_transport).
