@@ -6,6 +6,7 @@
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/so3.hpp"
+#include "sim_scenario.hpp"
 
 #include <gtest/gtest.h>
 
@@ -147,4 +148,84 @@ TEST(Bootstrap, EmptyPoolFrameAddsBootstrapCount) {
   EXPECT_LE(rep.n_added, 10);
   s.bootstrap_landmarks = s.max_landmarks + 1;
   EXPECT_NE(s.validate().find("bootstrap_landmarks"), std::string::npos);
+}
+
+// Filter level: after a long prediction the per-candidate gate is loose, so
+// matches 2 cm off (a different physical point with the same descriptor, as
+// ORB finds on repetitive texture) pass it. The RANSAC step rejects them and
+// the pose stays at the truth; without it the update is pulled off.
+namespace {
+struct WrongMatchResult {
+  IterationReport rep;
+  double pos_err = 0, rot_err = 0;
+};
+
+WrongMatchResult runWrongMatches(int ransac_iterations) {
+  EskfSettings s;
+  s.max_landmarks = 100;
+  s.max_new_landmarks = 50;
+  s.max_update_landmarks = 50;
+  s.initial_sigma_position = 1e-6;
+  s.initial_sigma_orientation = 1e-6;
+  s.initial_sigma_velocity = 0.5;
+  s.initial_sigma_angular_velocity = 0.5;
+  s.ransac_iterations = ransac_iterations;
+  EXPECT_EQ(s.validate(), "");
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+  EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const int n = 36;
+  std::vector<Vec3> pts;
+  std::vector<uint8_t> desc;
+  for (int i = 0; i < n; ++i) {
+    pts.emplace_back(0.3 * u(rng), 0.2 * u(rng), 0.6 + 0.2 * u(rng));
+    for (int b = 0; b < 32; ++b) desc.push_back(static_cast<uint8_t>(rng()));
+  }
+  // Stereo-like covariance: 0.3 mm across the ray, 2 mm along it.
+  auto cov = [](const Vec3& z) {
+    const Vec3 r = z.normalized();
+    return Mat3(9e-8 * Mat3::Identity() + (4e-6 - 9e-8) * r * r.transpose());
+  };
+  auto frame = [&](double stamp, bool wrong) {
+    StereoFrame fr;
+    fr.stamp = stamp;
+    fr.descriptor_length = 32;
+    fr.descriptors = desc;
+    for (int i = 0; i < n; ++i) {
+      StereoMeasurement m;
+      m.Cz = cov(pts[i]);
+      m.z = pts[i] + Mat3(m.Cz.llt().matrixL()) * Vec3(g(rng), g(rng), g(rng));
+      if (wrong && i % 6 == 0) m.z += 0.02 * Vec3(u(rng), u(rng), u(rng)).normalized();
+      m.frontend_id = static_cast<uint32_t>(i);
+      m.response = 1.0f;
+      fr.measurements.push_back(m);
+    }
+    return fr;
+  };
+  WrongMatchResult r;
+  EXPECT_EQ(f.processFrame(frame(0.0, false), &r.rep), Status::kOk);
+  EXPECT_EQ(r.rep.n_added, n);
+  EXPECT_EQ(f.processFrame(frame(0.3, true), &r.rep), Status::kOk);  // the camera did not move
+  const auto e = sim::poseError(PoseState(), f.pose());
+  r.pos_err = e.head<3>().norm();
+  r.rot_err = e.tail<3>().norm();
+  return r;
+}
+}  // namespace
+
+TEST(Ransac, FilterRejectsWrongMatchesThatPassTheGate) {
+  const WrongMatchResult off = runWrongMatches(0), on = runWrongMatches(200);
+  std::printf("without RANSAC: updated %d gated %d |dp| %.2e m |dth| %.2e rad; with: updated %d gated %d (ransac) "
+              "|dp| %.2e m |dth| %.2e rad\n",
+              off.rep.n_updated, off.rep.n_gated_out, off.pos_err, off.rot_err, on.rep.n_updated, on.rep.n_gated_out,
+              on.pos_err, on.rot_err);
+  // The gate alone lets all 6 wrong matches through ...
+  EXPECT_EQ(off.rep.n_updated, 36);
+  // ... RANSAC removes them (and at most one correct pair at chi^2 99 %).
+  EXPECT_GE(on.rep.n_gated_out, 6);
+  EXPECT_GE(on.rep.n_updated, 29);
+  EXPECT_LT(on.pos_err, 0.5 * off.pos_err);
+  EXPECT_LT(on.pos_err, 1e-3);
 }
