@@ -31,6 +31,7 @@ export PATH="/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
 unset PYTHONPATH PYTHONHOME VIRTUAL_ENV || true
 DELAY_MS="${HAPI_NET_DELAY_MS:-20}"
 LOSS="${HAPI_NET_LOSS:-5}"            # percent, each direction
+LINK="${HAPI_LINK:-auto}"             # auto | netem | tun | iptables (force one kind of link)
 RESTART_AT="${HAPI_RESTART_AT:-10}"   # [s] into phase 2
 AFTER_RESTART="${HAPI_AFTER_RESTART:-25}"  # [s] phase 2 goes on after the restart command
 OUT="${HAPI_RUN_DIR:-$WS/reliability/two_hosts}"
@@ -43,6 +44,7 @@ MASTER="http://$IP_S:11311"
 die() { echo "[two_hosts] ERROR: $*" >&2; exit 1; }
 skip() { echo "[two_hosts] SKIP: $*" >&2; exit 77; }
 log() { echo "[two_hosts] $*"; }
+case "$LINK" in auto | netem | tun | iptables) ;; *) die "HAPI_LINK must be auto, netem, tun or iptables" ;; esac
 [ "$(id -u)" -eq 0 ] || skip "needs root (ip netns, tc/TUN, iptables)"
 command -v ip >/dev/null || skip "iproute2 missing (scripts/debian-packages.sh lists it)"
 ip netns add "$NS_R" 2>/dev/null || skip "cannot create a network namespace (no CAP_NET_ADMIN or no netns support)"
@@ -101,11 +103,14 @@ veth_up() {
   ip -n "$NS_S" link set "$IF_S" up
 }
 veth_up
-if ip -n "$NS_R" qdisc add dev "$IF_R" root netem delay "${DELAY_MS}ms" loss "$LOSS%" 2>/dev/null &&
+if [[ "$LINK" == auto || "$LINK" == netem ]] &&
+   ip -n "$NS_R" qdisc add dev "$IF_R" root netem delay "${DELAY_MS}ms" loss "$LOSS%" 2>/dev/null &&
    ip -n "$NS_S" qdisc add dev "$IF_S" root netem delay "${DELAY_MS}ms" loss "$LOSS%" 2>/dev/null; then
   LINK_KIND=netem
   IMPAIR="veth + tc netem delay ${DELAY_MS} ms, loss $LOSS % each way"
-elif [ -c /dev/net/tun ]; then
+elif [ "$LINK" = netem ]; then
+  die "HAPI_LINK=netem but this kernel has no netem qdisc"
+elif [[ "$LINK" == auto || "$LINK" == tun ]] && [ -c /dev/net/tun ]; then
   ip -n "$NS_R" link del "$IF_R"    # (takes its peer along)
   LINK_KIND=tun
   IMPAIR="TUN pair + delay_line.py (user-space netem; this kernel has no sch_netem): delay ${DELAY_MS} ms, loss $LOSS % each way"
@@ -115,12 +120,16 @@ elif [ -c /dev/net/tun ]; then
   DELAY_LINE_PID=$!
   for _ in $(seq 50); do [ -e "$OUT/link.ready" ] && break; sleep 0.1; done
   [ -e "$OUT/link.ready" ] || die "delay_line.py did not bring the link up (see $OUT/delay_line.log)"
+elif [ "$LINK" = tun ]; then
+  die "HAPI_LINK=tun but there is no /dev/net/tun"
 else
   LINK_KIND=iptables
   p="$(python3 -c "print($LOSS / 100.0)")"
   ip netns exec "$NS_R" iptables -A INPUT -i "$IF_R" -m statistic --mode random --probability "$p" -j DROP
   ip netns exec "$NS_S" iptables -A INPUT -i "$IF_S" -m statistic --mode random --probability "$p" -j DROP
-  IMPAIR="veth + iptables random loss $LOSS % each way; NO delay (no netem qdisc, no /dev/net/tun)"
+  why="no netem qdisc, no /dev/net/tun"
+  [ "$LINK" = iptables ] && why="HAPI_LINK=iptables"
+  IMPAIR="veth + iptables random loss $LOSS % each way; NO delay ($why)"
 fi
 log "link $IP_R <-> $IP_S: $IMPAIR"
 if command -v ping >/dev/null; then
@@ -243,6 +252,26 @@ if [ "$LINK_KIND" = netem ]; then
     echo "== $1"
     ip -n "$1" -s qdisc show dev "$2"
   done >"$OUT/netem_stats.txt"
+elif [ "$LINK_KIND" = iptables ]; then
+  # Dropped = the DROP rule's packet count; offered = packets received by
+  # the interface (counted before netfilter sees them).
+  stats=()
+  for d in "$NS_S $IF_S $NS_R" "$NS_R $IF_R $NS_S"; do
+    set -- $d
+    drop="$(ip netns exec "$1" iptables -L INPUT -v -n -x | awk '/statistic/ {print $1; exit}')"
+    rx="$(ip -n "$1" -s link show dev "$2" | awk '/RX:/ {getline; print $2; exit}')"
+    stats+=("$3->$1" "${rx:-0}" "${drop:-0}")
+  done
+  python3 - "$OUT/link.json" "${stats[@]}" <<'PYEOF'
+import json, sys
+d = {}
+a = sys.argv[2:]
+for name, rx, drop in zip(a[0::3], a[1::3], a[2::3]):
+    rx, drop = int(rx), int(drop)
+    d[name] = {"packets_in": rx, "packets_dropped": drop, "packets_out": rx - drop,
+               "loss_measured_pct": 100.0 * drop / max(1, rx)}
+json.dump({"directions": d}, open(sys.argv[1], "w"), indent=1)
+PYEOF
 elif [ "$LINK_KIND" = tun ]; then
   sleep 1.5   # delay_line.py rewrites link.json every second; the link stays up for the shutdown
 fi

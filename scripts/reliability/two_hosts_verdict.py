@@ -34,7 +34,7 @@ def num(d, k):
 
 def link_stats(out, kind):
     """Per-direction packet counters of the impaired link, or {} when unknown."""
-    if kind == "tun" and os.path.exists(out + "/link.json"):
+    if kind in ("tun", "iptables") and os.path.exists(out + "/link.json"):
         return json.load(open(out + "/link.json"))["directions"]
     if kind == "netem" and os.path.exists(out + "/netem_stats.txt"):
         d = {}
@@ -93,7 +93,7 @@ def main():
     check(p1["odom_count"] >= 0.3 * frames,
           "phase 1: odometry for >= 30 %% of the %d frames across the link (%d)" % (frames, p1["odom_count"]))
     check(bool(be1) and bool(fe1), "phase 1: diagnostics of both hosts seen on the server")
-    if a.link_kind in ("netem", "tun"):
+    if a.link_kind in ("netem", "tun", "iptables"):
         dropped = sum(s["packets_dropped"] for s in links.values())
         check(dropped > 0, "link losses counted: %d packets dropped by the link" % dropped)
     sent, got = num(fe1, "frames processed"), num(be1, "frames_received")
