@@ -141,6 +141,21 @@ TEST(EskfNodelet, ProcessesSyntheticFrames) {
   EXPECT_LT(err.norm(), 0.05) << "estimate " << odomPosition(last).transpose() << " truth "
                               << truthInFirstCamera(t_last, t_first).transpose();
 
+  // Twist in the child (camera) frame with its covariance: the scene moves at
+  // d/dt (0.25 t, 0.05 sin 1.5t, 0.1 t) in the scene world; in the camera
+  // frame that is R(t)^T times it.
+  {
+    const Eigen::Vector3d v_world(0.25, 0.075 * std::cos(1.5 * t_last), 0.1);
+    const Eigen::Vector3d v_cam = scene->pose(t_last).linear().transpose() * v_world;
+    const auto& tw = last.twist.twist.linear;
+    EXPECT_LT((Eigen::Vector3d(tw.x, tw.y, tw.z) - v_cam).norm(), 0.1)
+        << "twist " << tw.x << " " << tw.y << " " << tw.z << " truth " << v_cam.transpose();
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_GT(last.twist.covariance[i * 6 + i], 0.0) << i;
+      for (int j = 0; j < 6; ++j) EXPECT_DOUBLE_EQ(last.twist.covariance[i * 6 + j], last.twist.covariance[j * 6 + i]);
+    }
+  }
+
   // TF map -> camera.
   std::string tf_err;
   EXPECT_TRUE(tf_buffer->canTransform("map", kFrame, ros::Time(0), ros::Duration(3.0), &tf_err)) << tf_err;
