@@ -7,6 +7,7 @@
 //  - raw distorted images with a rational_polynomial calibration: keypoints
 //    are undistorted, the depth is right; the undistorted pair declared as
 //    rectified (rectified_input true) ignores D and is right too.
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <hapi_msgs/StereoLandmarks.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -171,6 +172,20 @@ void expectSameLandmarks(const hapi_msgs::StereoLandmarks& a, const hapi_msgs::S
   EXPECT_EQ(a.descriptors, b.descriptors) << what;
 }
 
+std::mutex diag_mu;
+std::map<std::string, std::map<std::string, std::string>> diag;  // status name -> values
+void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+  std::lock_guard<std::mutex> lk(diag_mu);
+  for (const auto& st : m->status)
+    for (const auto& kv : st.values) diag[st.name][kv.key] = kv.value;
+}
+std::string diagValue(const std::string& node, const std::string& key) {
+  std::lock_guard<std::mutex> lk(diag_mu);
+  for (const auto& st : diag)
+    if (st.first.rfind(node + ":", 0) == 0 && st.second.count(key)) return st.second.at(key);
+  return "";
+}
+
 ros::NodeHandle* nh = nullptr;
 cv::Mat left_ideal, right_ideal;  // mono8, rectified
 ros::Time t_next;
@@ -261,6 +276,42 @@ TEST(FrontendInputs, CompressedTransportGivesTheRawResult) {
   expectSameLandmarks(from_raw, from_png, "PNG vs raw");
 }
 
+// Undecodable compressed data: no output for that pair, a counted rejection
+// (the plugin hands over a 0x0 image), and the next good pair is processed.
+TEST(FrontendInputs, UndecodableCompressedPairIsCountedNotFatal) {
+  Instance cmp(*nh, "/cmp", "/frontend_compressed/landmarks", true);
+  ASSERT_TRUE(waitFor([&] { return cmp.connected(); }, 30.0));
+  const std::vector<double> D0(5, 0.0);
+  sensor_msgs::CompressedImage junk;
+  junk.format = "jpeg";
+  junk.data.assign(1000, 0x5a);
+  const ros::Time t = nextStamp();
+  junk.header.stamp = t;
+  sensor_msgs::CompressedImage junk_r = junk;
+  junk_r.header.frame_id = "in_right_optical_frame";
+  cmp.li.publish(junk);
+  cmp.lc.publish(info(t, false, D0, "plumb_bob"));
+  cmp.ri.publish(junk_r);
+  cmp.rc.publish(info(t, true, D0, "plumb_bob"));
+  ASSERT_TRUE(waitFor([] { return diagValue("frontend_compressed", "rejected.malformed_image") == "1"; }, 15.0))
+      << "rejected.malformed_image = '" << diagValue("frontend_compressed", "rejected.malformed_image") << "'";
+  hapi_msgs::StereoLandmarks none;
+  EXPECT_FALSE(cmp.out.find(t, &none));
+  // Still working.
+  sensor_msgs::CompressedImage l, r;
+  const ros::Time t2 = nextStamp();
+  for (auto* m : {&l, &r}) {
+    m->header.stamp = t2;
+    m->format = "mono8; png compressed mono8";
+  }
+  r.header.frame_id = "in_right_optical_frame";
+  cv::imencode(".png", left_ideal, l.data);
+  cv::imencode(".png", right_ideal, r.data);
+  hapi_msgs::StereoLandmarks ok;
+  ASSERT_TRUE(cmp.send(t2, l, r, info(t2, false, D0, "plumb_bob"), info(t2, true, D0, "plumb_bob"), &ok));
+  EXPECT_GE(ok.landmarks.size(), 150u);
+}
+
 TEST(FrontendInputs, RationalPolynomialRawAndRectifiedInput) {
   Instance dist(*nh, "/dist", "/frontend_distorted/landmarks", false);
   Instance rect(*nh, "/rect", "/frontend_rectified/landmarks", false);
@@ -311,6 +362,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "test_frontend_inputs");
   ros::NodeHandle n;
   nh = &n;
+  ros::Subscriber diag_sub = n.subscribe("/diagnostics", 50, onDiag);
   ros::AsyncSpinner spinner(2);
   spinner.start();
   const cv::Mat tex = texture();
