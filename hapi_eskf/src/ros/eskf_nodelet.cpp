@@ -69,6 +69,12 @@ void EskfNodelet::onInit() {
     NODELET_FATAL("invalid parameters: %s", err.c_str());
     throw std::runtime_error("hapi_eskf/EskfNodelet: invalid parameters: " + err);
   }
+  if (!params_.unknown.empty()) {
+    std::string names;
+    for (const std::string& n : params_.unknown) names += (names.empty() ? "~" : ", ~") + n;
+    NODELET_WARN("unknown parameter(s) ignored: %s (misspelled? every parameter is listed in config/eskf.yaml)",
+                 names.c_str());
+  }
   // Fail at start-up, not at the first frame, when the requested backend
   // cannot run (the descriptor length is only known from the first message).
   if (params_.filter.backend == BackendKind::kCuda) {

@@ -1,18 +1,25 @@
 #include "hapi_eskf/ros/params.hpp"
 
 #include <ros/node_handle.h>
+#include <ros/param.h>
 
 #include <cmath>
+#include <set>
 #include <sstream>
 
 namespace hapi_eskf {
 namespace ros_glue {
 namespace {
 
+// Names asked for by the current loadParams() on this thread (every read goes
+// through read()/readDouble(), so the list cannot drift from the code).
+thread_local std::set<std::string>* t_known = nullptr;
+
 // Reads `name` into *v when present. A present parameter of the wrong type is
 // an error (ros::NodeHandle::param would silently use the default instead).
 template <typename T>
 bool read(const ros::NodeHandle& nh, const std::string& name, T* v, std::string* err) {
+  if (t_known) t_known->insert(name);
   if (!nh.hasParam(name)) return true;
   T tmp;
   if (!nh.getParam(name, tmp)) {
@@ -25,6 +32,7 @@ bool read(const ros::NodeHandle& nh, const std::string& name, T* v, std::string*
 
 // Doubles may be written as integers in YAML ("rate: 2").
 bool readDouble(const ros::NodeHandle& nh, const std::string& name, double* v, std::string* err) {
+  if (t_known) t_known->insert(name);
   if (!nh.hasParam(name)) return true;
   double d;
   int i;
@@ -65,6 +73,11 @@ std::string NodeletParams::validate() const {
 
 std::string loadParams(const ros::NodeHandle& pnh, NodeletParams* out) {
   NodeletParams p;  // defaults
+  std::set<std::string> known;
+  t_known = &known;
+  struct Reset {
+    ~Reset() { t_known = nullptr; }
+  } reset;
   EskfSettings& s = p.filter;
   std::string err;
   std::string backend = toString(s.backend), precision = toString(s.precision);
@@ -97,6 +110,18 @@ std::string loadParams(const ros::NodeHandle& pnh, NodeletParams* out) {
       readDouble(pnh, "gyro_noise_density", &p.gyro_noise_density, &err) &&
       read(pnh, "imu_buffer_size", &p.imu_buffer_size, &err) && read(pnh, "output_dir", &p.output_dir, &err);
   if (!ok) return err;
+  // First path component of every parameter under ~ that nothing read.
+  std::vector<std::string> all;
+  if (ros::param::getParamNames(all)) {
+    const std::string prefix = pnh.getNamespace() + "/";
+    std::set<std::string> unknown;
+    for (const std::string& n : all) {
+      if (n.compare(0, prefix.size(), prefix) != 0) continue;
+      const std::string key = n.substr(prefix.size(), n.find('/', prefix.size()) - prefix.size());
+      if (!known.count(key)) unknown.insert(key);
+    }
+    p.unknown.assign(unknown.begin(), unknown.end());
+  }
   if (!parseBackendKind(backend, &s.backend)) return "~backend must be 'cpu' or 'cuda', got '" + backend + "'";
   if (!parsePrecision(precision, &s.precision)) return "~precision must be 'fp64' or 'fp32', got '" + precision + "'";
   const std::string v = p.validate();

@@ -95,9 +95,13 @@ TEST(EskfNodeletStartup, InvalidParametersRefuseToLoadWithAClearError) {
     EXPECT_TRUE(logged(rosgraph_msgs::Log::FATAL, "invalid parameters: " + c.expected)) << c.name;
     EXPECT_FALSE(isLoaded(c.name)) << c.name;
   }
-  // The manager survived every refusal and still loads a valid nodelet.
+  // The manager survived every refusal and still loads a valid nodelet; a
+  // misspelled name does not stop it but is named in a warning.
+  ros::param::set("/good/max_landmark", 100);
+  ros::param::set("/good/output_dir", std::string("/tmp"));
   EXPECT_TRUE(load("/good"));
   EXPECT_TRUE(isLoaded("/good"));
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "unknown parameter(s) ignored: ~max_landmark ("));
 }
 
 TEST(EskfNodeletStartup, CudaWithoutDeviceIsFatalOrAnAnnouncedCpuFallback) {

@@ -5,6 +5,7 @@
 #include "hapi_eskf/settings.hpp"
 
 #include <string>
+#include <vector>
 
 namespace ros {
 class NodeHandle;
@@ -38,6 +39,10 @@ struct NodeletParams {
   int imu_buffer_size = 2000;          // samples waiting for the next frame
 
   std::string output_dir = "/tmp";   // ~save_map / ~save_trajectory write here
+
+  // Set by loadParams: names under ~ that no parameter reads (typos such as
+  // ~max_landmark would otherwise be silently ignored); the nodelet warns.
+  std::vector<std::string> unknown;
 
   // Empty when valid, else a message naming the offending parameter.
   std::string validate() const;
