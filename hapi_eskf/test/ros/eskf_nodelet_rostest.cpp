@@ -415,6 +415,7 @@ TEST(EskfNodelet, SaveServicesWritePlyAndTum) {
   std::string line;
   int rows = 0;
   double prev_t = -1;
+  double last_row[8] = {0};
   while (std::getline(f, line)) {
     if (line.empty() || line[0] == '#') continue;
     std::istringstream ss(line);
@@ -423,7 +424,20 @@ TEST(EskfNodelet, SaveServicesWritePlyAndTum) {
     EXPECT_GT(v[0], prev_t);
     prev_t = v[0];
     EXPECT_NEAR(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7], 1.0, 1e-6);
+    std::copy(v, v + 8, last_row);
     ++rows;
+  }
+  // The last row is the last published odometry (t x y z qx qy qz qw).
+  {
+    std::lock_guard<std::mutex> lk(obs->mu);
+    const auto& o = obs->odoms.back();
+    EXPECT_NEAR(last_row[0], o.header.stamp.toSec(), 1e-6);
+    EXPECT_NEAR(last_row[1], o.pose.pose.position.x, 1e-6);
+    EXPECT_NEAR(last_row[2], o.pose.pose.position.y, 1e-6);
+    EXPECT_NEAR(last_row[3], o.pose.pose.position.z, 1e-6);
+    EXPECT_NEAR(std::abs(last_row[4] * o.pose.pose.orientation.x + last_row[5] * o.pose.pose.orientation.y +
+                         last_row[6] * o.pose.pose.orientation.z + last_row[7] * o.pose.pose.orientation.w),
+                1.0, 1e-6);
   }
   EXPECT_GE(static_cast<std::size_t>(rows), obs->numOdom() * 8 / 10);  // drops allowed, no losses in the file
 }
