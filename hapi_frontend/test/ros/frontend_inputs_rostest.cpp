@@ -357,6 +357,29 @@ TEST(FrontendInputs, RationalPolynomialRawAndRectifiedInput) {
   EXPECT_GT(medianDepthError(ignored), 3.0 * medianDepthError(raw_out));
 }
 
+// gpu:=true without a device (or in a build without CUDA) falls back to the
+// CPU path: same output as the CPU instance, "gpu used" False in /diagnostics.
+// With a device the GPU path runs and must meet the same accuracy.
+TEST(FrontendInputs, GpuRequestRunsOrFallsBackToCpu) {
+  Instance cpu(*nh, "/enc", "/stereo_frontend/landmarks", false);
+  Instance gpu(*nh, "/gpu", "/frontend_gpu/landmarks", false);
+  ASSERT_TRUE(waitFor([&] { return cpu.connected() && gpu.connected(); }, 30.0));
+  const std::vector<double> D0(5, 0.0);
+  hapi_msgs::StereoLandmarks a, b;
+  const ros::Time t = nextStamp();
+  ASSERT_TRUE(cpu.send(t, image(t, left_ideal, "mono8", false), image(t, right_ideal, "mono8", true),
+                       info(t, false, D0, "plumb_bob"), info(t, true, D0, "plumb_bob"), &a));
+  ASSERT_TRUE(gpu.send(t, image(t, left_ideal, "mono8", false), image(t, right_ideal, "mono8", true),
+                       info(t, false, D0, "plumb_bob"), info(t, true, D0, "plumb_bob"), &b));
+  ASSERT_TRUE(waitFor([] { return !diagValue("frontend_gpu", "gpu used").empty() &&
+                                  diagValue("frontend_gpu", "frames processed") != "0"; }, 15.0));
+  const std::string used = diagValue("frontend_gpu", "gpu used");
+  std::printf("[frontend inputs] gpu:=true -> gpu used: %s, %zu landmarks\n", used.c_str(), b.landmarks.size());
+  EXPECT_GE(b.landmarks.size(), 150u);
+  EXPECT_LT(medianDepthError(b), 0.01 * kDepth);
+  if (used == "False" || used == "false" || used == "0") expectSameLandmarks(a, b, "CPU fallback vs CPU");
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_frontend_inputs");
