@@ -240,15 +240,19 @@ void EskfNodelet::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
     }
     q_ci = it->second;
   }
+  const ImuSample sample{stamp, msg->header.stamp, q_ci * g};
   {
     std::lock_guard<std::mutex> lk(imu_mu_);
-    imu_buffer_.push_back({stamp, msg->header.stamp, q_ci * g});
+    imu_buffer_.push_back(sample);
     while (static_cast<int>(imu_buffer_.size()) > params_.imu_buffer_size) {
       imu_buffer_.pop_front();
       ++n_imu_dropped_;
     }
   }
-  mailbox_.wake();  // the worker publishes the propagated pose at the IMU rate
+  // IMU-rate output right here (a 12x12 step, no filter access), so it keeps
+  // flowing while the worker is busy with a frame.
+  std::lock_guard<std::mutex> lk(out_mu_);
+  stepAndPublish(sample);
 }
 
 bool EskfNodelet::resetService(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
@@ -354,7 +358,6 @@ void EskfNodelet::workerLoop() {
         }
       }
     }
-    if (params_.use_imu) propagateImu();
     if (snapshot_requested_.exchange(false) ||
         (ros::WallTime::now() - last_snapshot_wall_).toSec() >= 1.0 / params_.map_publish_rate)
       takeSnapshot();
@@ -372,8 +375,11 @@ void EskfNodelet::resetFilter() {
     std::lock_guard<std::mutex> lk(path_mu_);
     trajectory_.clear();
   }
-  last_output_stamp_ = -1.0;  // the new timeline may start earlier
-  if (propagator_) propagator_->invalidate();
+  {
+    std::lock_guard<std::mutex> lk(out_mu_);
+    last_output_stamp_ = -1.0;  // the new timeline may start earlier
+    if (propagator_) propagator_->invalidate();
+  }
   tf_buffer_->clear();  // after a bag loop its data lies in the "future" of the new timeline
   nav_msgs::Path empty;
   empty.header.frame_id = params_.world_frame;
@@ -416,6 +422,7 @@ bool EskfNodelet::ensureFilter(const Work& w) {
 // z-forward axes. The camera mounting is looked up once (assumed rigid).
 bool EskfNodelet::anchorWorld(const Work& w) {
   if (params_.base_frame.empty()) {
+    std::lock_guard<std::mutex> lk(out_mu_);
     T_map_world_.setIdentity();
     T_cam_base_.setIdentity();
     return true;
@@ -423,6 +430,7 @@ bool EskfNodelet::anchorWorld(const Work& w) {
   try {
     const auto t = tf_buffer_->lookupTransform(params_.base_frame, w.frame_id, ros::Time(0), ros::Duration(0.2));
     const Eigen::Isometry3d T_base_cam = toIsometry(t.transform);
+    std::lock_guard<std::mutex> lk(out_mu_);
     T_map_world_ = T_base_cam;
     T_cam_base_ = T_base_cam.inverse();
     return true;
@@ -517,41 +525,44 @@ bool EskfNodelet::process(Work& w) {
     backend_memory_ = eskf_->backend().memoryBytes();
   }
   last_stamp_ = w.stamp;
-  output_frame_ = w.frame_id;
   const Mat12 C = eskf_->poseCovariance();
-  const nav_msgs::Odometry odom = makeOdometry(last_stamp_, eskf_->pose(), C);
-  // With ~use_imu the IMU-rate output may already be past this frame (front-end
-  // latency): outputs keep strictly increasing stamps, and the corrected state
-  // reaches the next one through the propagation re-based here.
-  if (stamp > last_output_stamp_) publishOutput(odom);
+  nav_msgs::Odometry odom;
+  {
+    std::lock_guard<std::mutex> lk(out_mu_);
+    output_frame_ = w.frame_id;
+    odom = makeOdometry(last_stamp_, eskf_->pose(), C);
+    // With ~use_imu the IMU-rate output may already be past this frame
+    // (front-end latency): outputs keep strictly increasing stamps, and the
+    // corrected state reaches the next ones through the re-based propagation.
+    if (stamp > last_output_stamp_) publishOutput(odom);
+    if (propagator_) {
+      propagator_->rebase(eskf_->pose(), C, stamp);
+      // Catch up with the samples already received after this frame (their
+      // outputs are out already unless one arrived during this block).
+      std::vector<ImuSample> later;
+      {
+        std::lock_guard<std::mutex> lk2(imu_mu_);
+        for (const ImuSample& s : imu_buffer_)
+          if (s.stamp > stamp) later.push_back(s);
+      }
+      for (const ImuSample& s : later) stepAndPublish(s);
+    }
+  }
   recordPath(odom);
-  if (propagator_) propagator_->rebase(eskf_->pose(), C, stamp);
   return true;
 }
 
-void EskfNodelet::propagateImu() {
-  if (!propagator_ || !propagator_->valid() || !eskf_ || need_init_) return;
-  std::vector<ImuSample> fresh;
-  {
-    // The buffer is in stamp order (imuCallback drops older samples) and
-    // holds only samples after the last processed frame, plus new ones.
-    std::lock_guard<std::mutex> lk(imu_mu_);
-    auto it = imu_buffer_.end();
-    while (it != imu_buffer_.begin() && std::prev(it)->stamp > propagator_->time()) --it;
-    fresh.assign(it, imu_buffer_.end());
+void EskfNodelet::stepAndPublish(const ImuSample& s) {
+  if (!propagator_ || !propagator_->valid() || s.stamp <= propagator_->time()) return;
+  const Status st = propagator_->step(s.stamp, s.gyro_camera, params_.gyro_noise_density);
+  if (st != Status::kOk) {
+    NODELET_WARN_THROTTLE(2.0, "IMU-rate propagation failed at %.3f: %s", s.stamp, toString(st));
+    return;
   }
-  for (const ImuSample& s : fresh) {
-    const Status st = propagator_->step(s.stamp, s.gyro_camera, params_.gyro_noise_density);
-    if (st != Status::kOk) {
-      NODELET_WARN_THROTTLE(2.0, "IMU-rate propagation stopped at %.3f: %s", s.stamp, toString(st));
-      return;
-    }
-    // One output per sample, so the output rate is the IMU rate however the
-    // worker is woken; samples already covered before a re-base are skipped.
-    if (s.stamp > last_output_stamp_) {
-      publishOutput(makeOdometry(s.ros_stamp, propagator_->pose(), propagator_->covariance()));
-      ++n_imu_outputs_;
-    }
+  // One output per sample: the output rate is the IMU rate.
+  if (s.stamp > last_output_stamp_) {
+    publishOutput(makeOdometry(s.ros_stamp, propagator_->pose(), propagator_->covariance()));
+    ++n_imu_outputs_;
   }
 }
 

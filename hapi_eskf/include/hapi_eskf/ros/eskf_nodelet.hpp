@@ -4,9 +4,10 @@
 // they post the frame into a newest-wins Mailbox. One worker thread owns the
 // filter (all Eskf calls, so GPU work never blocks a callback), publishes
 // odom/pose/path/TF per frame and refreshes the map snapshot that a wall
-// timer publishes at ~map_publish_rate. With ~use_imu the IMU callback also
-// wakes the worker, which publishes odom/pose/TF once per gyro sample from a
-// propagated copy of the pose (pose_propagator.hpp): outputs at the IMU rate.
+// timer publishes at ~map_publish_rate. With ~use_imu the IMU callback
+// publishes odom/pose/TF once per gyro sample from a propagated copy of the
+// pose (pose_propagator.hpp, a 12x12 step, never the filter): outputs at the
+// IMU rate that keep flowing while the worker is busy with a frame.
 //
 // Resets (service ~reset, or a stamp jumping backwards by more than
 // ~time_jump_reset) bump an epoch; frames carry the epoch they were accepted
@@ -83,8 +84,9 @@ class EskfNodelet : public nodelet::Nodelet {
   bool ensureFilter(const Work& w);
   bool anchorWorld(const Work& w);
   void applyImu(double up_to);
-  void propagateImu();  // IMU-rate output between frames (~use_imu)
   bool process(Work& w);  // false: frame not used (error counted)
+  // --- under out_mu_ (worker and IMU callback) ---
+  void stepAndPublish(const ImuSample& s);  // one gyro step of the output copy + its output (~use_imu)
   nav_msgs::Odometry makeOdometry(const ros::Time& stamp, const PoseState& pose, const Mat12& C) const;
   void publishOutput(const nav_msgs::Odometry& odom);  // odom, pose, TF
   void recordPath(const nav_msgs::Odometry& odom);     // trajectory (TUM) + path, per frame
@@ -124,13 +126,18 @@ class EskfNodelet : public nodelet::Nodelet {
   std::unique_ptr<Eskf> eskf_;
   bool need_init_ = true;
   bool world_anchored_ = false;
+  ros::Time last_stamp_;
+
+  // Outputs (odom, pose, TF), published by the worker per frame and, with
+  // ~use_imu, by the IMU callback per gyro sample, always with strictly
+  // increasing stamps. out_mu_ guards everything below (the anchoring
+  // transforms are written by the worker only, read by both).
+  std::mutex out_mu_;
   Eigen::Isometry3d T_map_world_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_cam_base_ = Eigen::Isometry3d::Identity();
-  ros::Time last_stamp_;
   std::string output_frame_;  // camera frame of the last processed frame
   // ~use_imu: copy of the pose re-based on the filter after every frame and
-  // stepped by every newer gyro sample; outputs (odom, pose, TF) are published
-  // with strictly increasing stamps (last_output_stamp_).
+  // stepped by every newer gyro sample (pose_propagator.hpp).
   std::unique_ptr<ros_glue::PosePropagator> propagator_;
   double last_output_stamp_ = -1.0;
 

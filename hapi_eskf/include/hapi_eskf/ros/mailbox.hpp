@@ -25,17 +25,10 @@ class Mailbox {
     cv_.notify_one();
     return dropped;
   }
-  /// Wakes a waiting take() without a message (it returns empty): the IMU
-  /// callback uses it so the worker publishes at the IMU rate.
-  void wake() {
-    { std::lock_guard<std::mutex> lk(mu_); woken_ = true; }
-    cv_.notify_one();
-  }
-  /// Waits up to `timeout` for a message or a wake(); empty when none or closed.
+  /// Waits up to `timeout` for a message; empty when none or closed.
   std::optional<T> take(std::chrono::milliseconds timeout) {
     std::unique_lock<std::mutex> lk(mu_);
-    cv_.wait_for(lk, timeout, [&] { return slot_.has_value() || closed_ || woken_; });
-    woken_ = false;
+    cv_.wait_for(lk, timeout, [&] { return slot_.has_value() || closed_; });
     std::optional<T> out;
     if (slot_) { out = std::move(slot_); slot_.reset(); }
     return out;
@@ -52,7 +45,6 @@ class Mailbox {
   std::condition_variable cv_;
   std::optional<T> slot_;
   bool closed_ = false;
-  bool woken_ = false;
   std::uint64_t dropped_ = 0;
 };
 
