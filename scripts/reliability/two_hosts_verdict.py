@@ -113,7 +113,9 @@ def main():
         print("  phase 2: front end killed at %.1f s, restart issued at %.1f s, first odometry after it at %.1f s: "
               "recovery %.1f s after the restart command, odometry gap %.1f s" % (
                   a.kill_wall, a.restart_wall, after[0][0], rec, outage))
-    check(len(after) >= 20, "phase 2: odometry resumed after the front end restart (%d messages)" % len(after))
+    check(len(before) >= 10, "phase 2: the system ran before the front end was killed (%d odometry messages)"
+          % len(before))
+    check(len(after) >= 10, "phase 2: odometry resumed after the front end restart (%d messages)" % len(after))
     check(a.manager_pids[0] != "" and a.manager_pids[0] == a.manager_pids[1],
           "back end never restarted (manager pid %s at start, %s at end)" % tuple(a.manager_pids))
     # Phase 3: clean reset at the loop point.
