@@ -18,6 +18,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <map>
 #include <mutex>
 
@@ -277,6 +278,32 @@ TEST(EskfNodeletImuBase, ImuOutputsDoNotWaitForTheFrameUpdate) {
   std::printf("[eskf imu rostest] %d of 10 IMU outputs arrived before the frame update finished (frame %.1f ms)\n",
               before, t_total);
   if (t_total > 20.0) EXPECT_GE(before, 5);
+}
+
+// Bad IMU samples (NaN rate, a stamp not newer than the previous sample) are
+// dropped and counted; they produce no output and do not move the pose.
+TEST(EskfNodeletImuBase, BadImuSamplesAreDroppedAndCounted) {
+  ASSERT_TRUE(waitFor([] { return diagValue("imu_samples_dropped") >= 0.0; }, 5.0));
+  const double dropped0 = diagValue("imu_samples_dropped");
+  const nav_msgs::Odometry before = lastOdom();
+  const std::size_t n0 = numOdom();
+  const double t_last = (before.header.stamp - rig->t0).toSec();
+  sensor_msgs::Imu nan_imu;
+  nan_imu.header.stamp = rig->t0 + ros::Duration(t_last + 0.01);
+  nan_imu.header.frame_id = "imu_link";
+  nan_imu.angular_velocity.x = std::numeric_limits<double>::quiet_NaN();
+  rig->imu_pub.publish(nan_imu);
+  rig->publishImu(t_last - 0.005);  // older than the last sample, not a time jump
+  ASSERT_TRUE(waitFor([&] { return diagValue("imu_samples_dropped") >= dropped0 + 2; }, 5.0))
+      << diagValue("imu_samples_dropped") << " vs " << dropped0;
+  EXPECT_EQ(numOdom(), n0);
+  // A good sample afterwards is used, continuing from the unchanged pose.
+  rig->publishImu(t_last + 0.02);
+  const ros::Time good = rig->t0 + ros::Duration(t_last + 0.02);
+  ASSERT_TRUE(waitFor([&] { return lastOdom().header.stamp == good; }, 5.0));
+  const nav_msgs::Odometry after = lastOdom();
+  EXPECT_LT((position(after) - position(before)).norm(), 0.02);
+  EXPECT_LT((position(after) - rig->truth(t_last + 0.02).translation()).norm(), 0.05);
 }
 
 int main(int argc, char** argv) {
