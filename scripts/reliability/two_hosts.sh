@@ -279,5 +279,6 @@ fi
 # ------------------------------------------------------------- verdict
 python3 "$REPO/scripts/reliability/two_hosts_verdict.py" --out "$OUT" --bag-len "$BAG_LEN" --link "$IMPAIR" \
   --link-kind "$LINK_KIND" --kill-wall "$KILL_WALL" --restart-wall "$RESTART_WALL" \
-  --manager-pids "$MGR_PID_START" "$MGR_PID_END" --bag "$BAG" | tee "$OUT/report.txt"
+  --manager-pids "$MGR_PID_START" "$MGR_PID_END" --bag "$BAG" --max-step-error "${HAPI_MAX_STEP_ERROR:-0.5}" |
+  tee "$OUT/report.txt"
 exit "${PIPESTATUS[0]}"
