@@ -11,6 +11,7 @@
 #include "hapi_eskf/covariance_backend.hpp"
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
 #include "hapi_eskf/cuda/cuda_backend.hpp"
+#include "../src/cuda/stage_times.hpp"
 #endif
 
 #include <algorithm>
@@ -108,7 +109,13 @@ struct Row {
   double mem_gb = 0;
   double removal_gbps = 0;  // 2 x element size x moved elements / removal time
   int n_updated = 0;
+  // Medians of the update's device stages (HAPI_ESKF_CUDA_STAGE_TIMES=1, CUDA rows).
+  std::vector<double> stages;
 };
+
+const char* const kStageNames[] = {"upload", "gather", "S", "potrf+readback", "host wait 1", "trsm",
+                                   "trsv+gemv+readback", "host wait 2", "rank update"};
+constexpr int kStageCount = 9;
 
 Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, int iters, int warmup,
         const Options& o) {
@@ -128,7 +135,11 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   std::vector<double> a, rm, ad, pr, up, to, bk, nu, bw;
   const double elem = (name == "cuda-fp32") ? 4.0 : 8.0;
   bool ok = true;
+  std::vector<std::vector<double>> stage_samples(kStageCount);
   for (int i = 0; i < warmup + iters; ++i) {
+#ifdef HAPI_ESKF_BENCH_WITH_CUDA
+    if (i == warmup) cuda::takeUpdateStageTimes();  // drop the warm-up ones
+#endif
     const StageTimes t = sc.iterate();
     if (!t.ok) {
       ok = false;
@@ -146,6 +157,15 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     nu.push_back(t.n_updated);
     if (t.removal > 0) bw.push_back(2.0 * elem * t.removal_moved / (t.removal * 1e-3) / 1e9);
   }
+#ifdef HAPI_ESKF_BENCH_WITH_CUDA
+  for (const cuda::UpdateStageTimes& u : cuda::takeUpdateStageTimes()) {
+    const double v[kStageCount] = {u.upload, u.gather, u.innovation_cov, u.factor, u.host_check1,
+                                   u.trsm, u.solve, u.host_check2, u.rank_update};
+    for (int k = 0; k < kStageCount; ++k) stage_samples[k].push_back(v[k]);
+  }
+#endif
+  if (!stage_samples[0].empty())
+    for (int k = 0; k < kStageCount; ++k) r.stages.push_back(median(stage_samples[k]));
   r.ok = ok;
   r.iters = iters;
   r.mem_gb = sc.backend().memoryBytes() / 1e9;  // after the run: work buffers have grown to their size
@@ -172,6 +192,9 @@ int main(int argc, char** argv) {
   std::printf("stage times are medians over the measured iterations (after %d warm-up on CUDA, %d on CPU), in ms; "
               "total = predict + association + update + removal + addition\n",
               o.warmup, o.cpu_warmup);
+  const char* cv = std::getenv("HAPI_ESKF_CUDA_COMPACT");
+  const char* rv = std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE");
+  std::printf("CUDA variants: compaction %s, rank update %s\n", cv ? cv : "lean8 (default)", rv ? rv : "gemm (default)");
 
   Ceilings ceil;
   std::string why;
@@ -226,6 +249,27 @@ int main(int argc, char** argv) {
     std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d | %.0f |\n",
                 r.backend.c_str(), r.K, r.iters, r.assoc, r.removal, r.addition, r.predict, r.update, r.total,
                 r.bookkeeping, r.mem_gb, r.n_updated, r.removal_gbps);
+  }
+
+  // The update's device stages, where recorded (HAPI_ESKF_CUDA_STAGE_TIMES=1).
+  bool stage_header = false;
+  for (const Row& r : rows) {
+    if (r.stages.empty() || !r.ok) continue;
+    if (!stage_header) {
+      std::printf("\nupdate stages (median ms, events on the filter stream; sum vs the host-timed update):\n| backend | K |");
+      for (const char* nm : kStageNames) std::printf(" %s |", nm);
+      std::printf(" sum | update (host) |\n|---|---|");
+      for (int k = 0; k <= kStageCount; ++k) std::printf("---|");
+      std::printf("---|\n");
+      stage_header = true;
+    }
+    std::printf("| %s | %d |", r.backend.c_str(), r.K);
+    double sum = 0;
+    for (double v : r.stages) {
+      std::printf(" %.3f |", v);
+      sum += v;
+    }
+    std::printf(" %.3f | %.3f |\n", sum, r.update);
   }
 
   // GPU/CPU ratios where both ran.

@@ -280,6 +280,73 @@ __global__ void __launch_bounds__(kCompactThreads) compactKernel(T* __restrict__
   }
 }
 
+// Leaner variant of the same pass (default; HAPI_ESKF_CUDA_COMPACT=fence
+// selects compactKernel above). Same hazard argument, three differences:
+//  * no __threadfence per thread: a worker's loads are complete once their
+//    values are consumed, which __syncthreads_or(f(values)) forces (the
+//    predicate depends on every loaded value, so the barrier cannot be passed
+//    with a load still in flight); only the coordinator fences, as the
+//    cooperative-groups grid barrier does (cumulativity through the barrier);
+//  * the coordinator is an extra warp that moves no data, so its fence does
+//    not wait for the previous chunk's stores of a data warp;
+//  * blocks are persistent: each takes column after column from the ticket
+//    (the short columns at the end of the triangle then cost one ticket, not
+//    a block launch). A block still only waits on columns with a smaller
+//    ticket, whose blocks are resident: no deadlock.
+constexpr int kLeanWorkers = 256;
+template <typename T, int kPer>
+__global__ void __launch_bounds__(kLeanWorkers + 32, kPer == 8 ? 7 : 4) compactLeanKernel(T* __restrict__ C, std::size_t ld,
+                                                                      const int* __restrict__ old_of_new,
+                                                                      const int* __restrict__ reader, int n_new,
+                                                                      int r0, int* progress, unsigned* ticket) {
+  __shared__ int s_col;
+  const bool worker = threadIdx.x < kLeanWorkers;
+  const bool coord = threadIdx.x == kLeanWorkers;
+  constexpr int kChunk = kLeanWorkers * kPer;
+  for (;;) {
+    if (coord) s_col = static_cast<int>(atomicAdd(ticket, 1u));
+    __syncthreads();
+    const int j = s_col;
+    __syncthreads();  // every thread has read s_col before the next ticket overwrites it
+    if (j >= n_new) return;
+    const int rd = reader[j];
+    const T* src = C + static_cast<std::size_t>(old_of_new[j]) * ld;
+    T* dst = C + static_cast<std::size_t>(j) * ld;
+    const int begin = max(j, r0);
+    if (begin >= n_new && coord) atomicExch(progress + j, n_new);
+    for (int i0 = begin; i0 < n_new; i0 += kChunk) {
+      const int i1 = min(i0 + kChunk, n_new);
+      T v[kPer];
+      unsigned long long mix = 0;
+#pragma unroll
+      for (int p = 0; p < kPer; ++p) {
+        const int i = i0 + p * kLeanWorkers + threadIdx.x;
+        v[p] = (worker && i < i1) ? src[old_of_new[i]] : T(0);
+        mix ^= static_cast<unsigned long long>(sizeof(T) == 8 ? __double_as_longlong(static_cast<double>(v[p]))
+                                                              : __float_as_uint(static_cast<float>(v[p])));
+      }
+      // The predicate's value is irrelevant; computing it needs every load.
+      __syncthreads_or(mix == 0x5bd1e995a5a5a5a5ull);
+      if (coord) {
+        __threadfence();
+        atomicExch(progress + j, i1);
+        if (rd >= 0 && rd != j) {
+          while (*reinterpret_cast<volatile int*>(progress + rd) < i1) __nanosleep(32);
+        }
+        __threadfence();
+      }
+      __syncthreads();
+      if (worker) {
+#pragma unroll
+        for (int p = 0; p < kPer; ++p) {
+          const int i = i0 + p * kLeanWorkers + threadIdx.x;
+          if (i < i1) dst[i] = v[p];
+        }
+      }
+    }
+  }
+}
+
 inline unsigned blocksFor(long long count) { return static_cast<unsigned>((count + kThreads - 1) / kThreads); }
 
 }  // namespace
@@ -353,12 +420,25 @@ cudaError_t launchAddLandmarks(T* C, std::size_t ld, int n_old, const T* G, cons
 
 template <typename T>
 cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int* reader, int n_new, int r0,
-                          int* progress, unsigned* ticket, cudaStream_t stream) {
+                          int* progress, unsigned* ticket, CompactVariant variant, cudaStream_t stream) {
   if (r0 >= n_new) return cudaSuccess;  // only the tail was removed: nothing moves
   cudaError_t e = cudaMemsetAsync(progress, 0, sizeof(int) * static_cast<std::size_t>(n_new), stream);
   if (e == cudaSuccess) e = cudaMemsetAsync(ticket, 0, sizeof(unsigned), stream);
   if (e != cudaSuccess) return e;
-  compactKernel<T><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0, progress, ticket);
+  const int blocks = n_new < 4096 ? n_new : 4096;  // persistent: each block loops over tickets
+  switch (variant) {
+    case CompactVariant::kFence:
+      compactKernel<T><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0, progress, ticket);
+      break;
+    case CompactVariant::kLean16:
+      compactLeanKernel<T, 16><<<blocks, kLeanWorkers + 32, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
+                                                                          progress, ticket);
+      break;
+    default:
+      compactLeanKernel<T, 8><<<blocks, kLeanWorkers + 32, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
+                                                                         progress, ticket);
+      break;
+  }
   return cudaGetLastError();
 }
 
@@ -373,7 +453,7 @@ cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int
   template cudaError_t launchLandmarkBlocks<T>(const T*, std::size_t, int, double*, cudaStream_t);                    \
   template cudaError_t launchAddLandmarks<T>(T*, std::size_t, int, const T*, const T*, int, cudaStream_t);            \
   template cudaError_t launchCompact<T>(T*, std::size_t, const int*, const int*, int, int, int*, unsigned*,          \
-                                        cudaStream_t);
+                                        CompactVariant, cudaStream_t);
 HAPI_INSTANTIATE(double)
 HAPI_INSTANTIATE(float)
 #undef HAPI_INSTANTIATE

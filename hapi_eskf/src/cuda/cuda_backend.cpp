@@ -11,6 +11,7 @@
 #include "device_buffer.hpp"
 #include "input_checks.hpp"
 #include "kernels.cuh"
+#include "stage_times.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -40,6 +41,15 @@ RankUpdate rankUpdateFromEnv() {
   return RankUpdate::kPanelGemm;
 }
 
+// HAPI_ESKF_CUDA_COMPACT=fence|lean8|lean16 selects the removal's compaction
+// kernel (default lean8; covariance_kernels.cu explains the variants).
+CompactVariant compactVariantFromEnv() {
+  const char* e = std::getenv("HAPI_ESKF_CUDA_COMPACT");
+  if (e != nullptr && std::string(e) == "fence") return CompactVariant::kFence;
+  if (e != nullptr && std::string(e) == "lean16") return CompactVariant::kLean16;
+  return CompactVariant::kLean8;
+}
+
 template <typename T>
 class CudaBackend final : public CovarianceBackend {
  public:
@@ -51,6 +61,8 @@ class CudaBackend final : public CovarianceBackend {
     if (solver_ != nullptr) cusolverDnDestroy(solver_);
     if (blas_ != nullptr) cublasDestroy(blas_);
     if (stream_ != nullptr) cudaStreamDestroy(stream_);
+    for (cudaEvent_t e : ev_)
+      if (e != nullptr) cudaEventDestroy(e);
   }
 
   // Allocates everything the loop needs up front (C, a workspace of W columns,
@@ -73,6 +85,11 @@ class CudaBackend final : public CovarianceBackend {
     if (failed(dx_.ensure(ld_), "cudaMalloc(dx)", why)) return false;
     if (failed(cudaStreamSynchronize(stream_), "cudaStreamSynchronize", why)) return false;
     rank_ = rankUpdateFromEnv();
+    compact_ = compactVariantFromEnv();
+    if (stageTimesEnabled()) {
+      for (cudaEvent_t& e : ev_)
+        if (failed(cudaEventCreate(&e), "cudaEventCreate", why)) return false;
+    }
     return true;
   }
 
@@ -151,6 +168,7 @@ class CudaBackend final : public CovarianceBackend {
       }
     }
     HAPI_CUDA_TRY(ensureWork(dim));
+    HAPI_CUDA_TRY(mark(kEvStart));
     HAPI_CUDA_TRY(H_.ensure(hH.size()));
     HAPI_CUDA_TRY(R_.ensure(hR.size()));
     HAPI_CUDA_TRY(slots_.ensure(m));
@@ -165,7 +183,9 @@ class CudaBackend final : public CovarianceBackend {
     // 1. P = C H^T by gather; 2. S = H P + R; Cholesky of S (lower).
     T* P = work_.get();
     const int ldP = static_cast<int>(ld_);
+    HAPI_CUDA_TRY(mark(kEvUploaded));
     HAPI_CUDA_TRY(launchGatherPHt<T>(C_.get(), ld_, nn, slots_.get(), H_.get(), m, P, ld_, stream_));
+    HAPI_CUDA_TRY(mark(kEvGathered));
     HAPI_CUDA_TRY(launchInnovationCov<T>(P, ld_, slots_.get(), H_.get(), R_.get(), m, S_.get(), stream_));
     // As the reference: a non-finite S is kNonFinite, a failed or numerically
     // singular factor (min L_ii <= 1e-12 sqrt(max S_ii)) kNotPositiveDefinite.
@@ -174,6 +194,7 @@ class CudaBackend final : public CovarianceBackend {
     std::vector<T> diagS(dim), diagL(dim);
     HAPI_CUDA_TRY(cudaMemcpy2DAsync(diagS.data(), sizeof(T), S_.get(), (dim + 1) * sizeof(T), sizeof(T), dim,
                                     cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(mark(kEvInnovationCov));
     int lwork = 0;
     HAPI_CUDA_TRY(Blas<T>::potrfBufferSize(solver_, dim, S_.get(), dim, &lwork));
     HAPI_CUDA_TRY(potrf_work_.ensure(static_cast<std::size_t>(std::max(lwork, 1))));
@@ -182,6 +203,7 @@ class CudaBackend final : public CovarianceBackend {
     HAPI_CUDA_TRY(cudaMemcpyAsync(info, ints_.get(), 2 * sizeof(int), cudaMemcpyDeviceToHost, stream_));
     HAPI_CUDA_TRY(cudaMemcpy2DAsync(diagL.data(), sizeof(T), S_.get(), (dim + 1) * sizeof(T), sizeof(T), dim,
                                     cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(mark(kEvFactored));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     if (info[1] != 0) return Status::kNonFinite;         // C not touched yet
     if (info[0] > 0) return Status::kNotPositiveDefinite;
@@ -199,12 +221,15 @@ class CudaBackend final : public CovarianceBackend {
     }
 
     // 3. A = P L^-T (in place), y = L^-1 z, dx = A y.
+    HAPI_CUDA_TRY(mark(kEvTrsmStart));
     HAPI_CUDA_TRY(Blas<T>::trsmRightLowerT(blas_, nn, dim, S_.get(), dim, P, ldP));
+    HAPI_CUDA_TRY(mark(kEvTrsmDone));
     HAPI_CUDA_TRY(Blas<T>::trsvLower(blas_, dim, S_.get(), dim, y_.get()));
     HAPI_CUDA_TRY(Blas<T>::gemv(blas_, nn, dim, P, ldP, y_.get(), dx_.get()));
     std::vector<T> hy(dim), hdx(nn);
     HAPI_CUDA_TRY(cudaMemcpyAsync(hy.data(), y_.get(), dim * sizeof(T), cudaMemcpyDeviceToHost, stream_));
     HAPI_CUDA_TRY(cudaMemcpyAsync(hdx.data(), dx_.get(), nn * sizeof(T), cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(mark(kEvSolved));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     double y2 = 0;
     for (T v : hy) y2 += static_cast<double>(v) * static_cast<double>(v);
@@ -214,8 +239,11 @@ class CudaBackend final : public CovarianceBackend {
     if (!std::isfinite(y2) || !dxd.allFinite()) return Status::kNonFinite;
 
     // 4. C <- C - A A^T (lower triangle only).
+    HAPI_CUDA_TRY(mark(kEvRankStart));
     HAPI_CUDA_TRY(rankUpdate<T>(blas_, rank_, nn, dim, P, ldP, C_.get(), ld_, defaultPanel(nn)));
+    HAPI_CUDA_TRY(mark(kEvRankDone));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    HAPI_CUDA_TRY(accumulateStageTimes());
     *dx = std::move(dxd);
     if (nis != nullptr) *nis = y2;
     return Status::kOk;
@@ -283,7 +311,7 @@ class CudaBackend final : public CovarianceBackend {
     int* d = ints_.get();
     HAPI_CUDA_TRY(cudaMemcpyAsync(d, h.data(), h.size() * sizeof(int), cudaMemcpyHostToDevice, stream_));
     HAPI_CUDA_TRY(launchCompact<T>(C_.get(), ld_, d, d + n_new, n_new, r0, d + 2 * n_new,
-                                   reinterpret_cast<unsigned*>(d + 3 * n_new), stream_));
+                                   reinterpret_cast<unsigned*>(d + 3 * n_new), compact_, stream_));
     HAPI_CUDA_TRY(launchGatherDescriptors(desc_.get(), d + 3 * n_new + 1, K_new, D_, desc_tmp_.get(), stream_));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     desc_.swap(desc_tmp_);
@@ -374,6 +402,33 @@ class CudaBackend final : public CovarianceBackend {
  private:
   int n() const { return stateDim(K_); }
 
+  // Optional per-stage timing of update() (HAPI_ESKF_CUDA_STAGE_TIMES=1,
+  // stage_times.hpp): events on the filter's own stream, so the spans include
+  // the bubbles of the host round trips; off by default (no events recorded).
+  enum Ev { kEvStart, kEvUploaded, kEvGathered, kEvInnovationCov, kEvFactored, kEvTrsmStart, kEvTrsmDone, kEvSolved,
+            kEvRankStart, kEvRankDone, kEvCount };
+  cudaError_t mark(Ev e) { return ev_[e] != nullptr ? cudaEventRecord(ev_[e], stream_) : cudaSuccess; }
+  cudaError_t accumulateStageTimes() {
+    if (ev_[0] == nullptr) return cudaSuccess;
+    float ms[kEvCount - 1];
+    for (int i = 0; i + 1 < kEvCount; ++i) {
+      const cudaError_t e = cudaEventElapsedTime(&ms[i], ev_[i], ev_[i + 1]);
+      if (e != cudaSuccess) return e;
+    }
+    UpdateStageTimes t;
+    t.upload = ms[0];
+    t.gather = ms[1];
+    t.innovation_cov = ms[2];
+    t.factor = ms[3];
+    t.host_check1 = ms[4];
+    t.trsm = ms[5];
+    t.solve = ms[6];
+    t.host_check2 = ms[7];
+    t.rank_update = ms[8];
+    recordUpdateStageTimes(t);
+    return cudaSuccess;
+  }
+
   // The workspace holds P / A (n x 3m) during an update; it grows when an
   // update has more than work_cols_ / 3 blocks.
   cudaError_t ensureWork(int cols) {
@@ -388,6 +443,8 @@ class CudaBackend final : public CovarianceBackend {
   int K_ = 0;
   int work_cols_ = 0;
   RankUpdate rank_ = RankUpdate::kPanelGemm;
+  CompactVariant compact_ = CompactVariant::kLean8;
+  cudaEvent_t ev_[kEvCount] = {};
   cudaStream_t stream_ = nullptr;
   cublasHandle_t blas_ = nullptr;
   cusolverDnHandle_t solver_ = nullptr;

@@ -1,0 +1,33 @@
+// Recorder behind stage_times.hpp: a process-wide list the bench drains.
+#include "stage_times.hpp"
+
+#include <cstdlib>
+#include <mutex>
+#include <string>
+
+namespace hapi_eskf {
+namespace cuda {
+namespace {
+std::mutex g_mu;
+std::vector<UpdateStageTimes> g_times;
+}  // namespace
+
+bool stageTimesEnabled() {
+  const char* e = std::getenv("HAPI_ESKF_CUDA_STAGE_TIMES");
+  return e != nullptr && std::string(e) == "1";
+}
+
+void recordUpdateStageTimes(const UpdateStageTimes& t) {
+  std::lock_guard<std::mutex> lock(g_mu);
+  g_times.push_back(t);
+}
+
+std::vector<UpdateStageTimes> takeUpdateStageTimes() {
+  std::lock_guard<std::mutex> lock(g_mu);
+  std::vector<UpdateStageTimes> out;
+  out.swap(g_times);
+  return out;
+}
+
+}  // namespace cuda
+}  // namespace hapi_eskf
