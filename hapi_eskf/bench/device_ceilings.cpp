@@ -18,7 +18,7 @@ bool measureCeilings(bool, Ceilings*, std::string* why) {
   *why = "built without CUDA";
   return false;
 }
-bool measureRankUpdate(bool, int, int, RankUpdateTiming*, std::string* why) {
+bool measureRankUpdate(bool, int, int, int, RankUpdateTiming*, std::string* why) {
   *why = "built without CUDA";
   return false;
 }
@@ -150,7 +150,7 @@ bool measureCeilings(bool fp32, Ceilings* out, std::string* why) {
   return out->measured;
 }
 
-bool measureRankUpdate(bool fp32, int n, int k, RankUpdateTiming* out, std::string* why) {
+bool measureRankUpdate(bool fp32, int n, int k, int reps, RankUpdateTiming* out, std::string* why) {
   const std::size_t es = fp32 ? 4 : 8;
   void *C = nullptr, *A = nullptr;
   if (cudaMalloc(&C, es * std::size_t(n) * n) != cudaSuccess) {
@@ -212,7 +212,7 @@ bool measureRankUpdate(bool fp32, int n, int k, RankUpdateTiming* out, std::stri
     if (rep > 0) tz.push_back(t);
   }
   fillRandom(A, std::size_t(n) * k, fp32, 3);
-  for (int rep = 0; rep < 4; ++rep) {
+  for (int rep = 0; rep < 1 + std::max(reps, 1); ++rep) {
     cudaEventRecord(ev.a);
     if (fp32) {
       const float a = -1.f, b = 1.f;

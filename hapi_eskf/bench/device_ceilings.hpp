@@ -31,7 +31,9 @@ bool measureCeilings(bool fp32, Ceilings* out, std::string* why);
 // Also times the TRSM of update step 3 with the same shape.
 // Allocates its own n x n and n x k buffers (call while no backend is alive
 // when n is large); false if they do not fit.
-bool measureRankUpdate(bool fp32, int n, int k, RankUpdateTiming* out, std::string* why);
+// reps: timed repetitions of each variant (after one warm-up); more of them
+// show the rate the GEMM sustains once the card is hot.
+bool measureRankUpdate(bool fp32, int n, int k, int reps, RankUpdateTiming* out, std::string* why);
 
 }  // namespace bench
 }  // namespace hapi_eskf

@@ -232,8 +232,14 @@ __global__ void addNewNewKernel(T* __restrict__ C, std::size_t ld, int n_old, co
 // on a column whose block is already running: no deadlock whatever the order
 // in which the hardware schedules blocks. One read and one write per moved
 // element (the strip-and-workspace pass it replaces moved every element twice).
-constexpr int kCompactThreads = 256, kCompactPer = 8;
-template <typename T>
+// Variants (HAPI_ESKF_CUDA_COMPACT, launchCompact): kPer rows per thread per
+// chunk; kAligned puts the chunk boundaries on a global grid of kChunk rows
+// (first chunk of a column shorter), so column j's chunk ends where its
+// reader's chunk ends and j waits for one chunk of the reader, not two; both
+// aligned variants also read a chunk whose source rows are contiguous (no
+// removed slot inside, almost every chunk) without the per-element index.
+constexpr int kCompactThreads = 256;
+template <typename T, int kPer, bool kAligned>
 __global__ void __launch_bounds__(kCompactThreads) compactKernel(T* __restrict__ C, std::size_t ld,
                                                                  const int* __restrict__ old_of_new,
                                                                  const int* __restrict__ reader, int n_new, int r0,
@@ -246,21 +252,33 @@ __global__ void __launch_bounds__(kCompactThreads) compactKernel(T* __restrict__
   const int rd = reader[j];
   const T* src = C + static_cast<std::size_t>(old_of_new[j]) * ld;
   T* dst = C + static_cast<std::size_t>(j) * ld;
-  constexpr int kChunk = kCompactThreads * kCompactPer;
+  constexpr int kChunk = kCompactThreads * kPer;
   const int begin = max(j, r0);
   if (begin >= n_new && threadIdx.x == 0) atomicExch(progress + j, n_new);
-  for (int i0 = begin; i0 < n_new; i0 += kChunk) {
-    const int i1 = min(i0 + kChunk, n_new);
-    T v[kCompactPer];
+  for (int i0 = begin; i0 < n_new;) {
+    const int i1 = min(kAligned ? (i0 / kChunk + 1) * kChunk : i0 + kChunk, n_new);
+    T v[kPer];
+    if (kAligned) {
+      const int o0 = old_of_new[i0];
+      const bool contiguous = old_of_new[i1 - 1] - o0 == i1 - 1 - i0;
 #pragma unroll
-    for (int p = 0; p < kCompactPer; ++p) {
-      const int i = i0 + p * kCompactThreads + threadIdx.x;
-      v[p] = i < i1 ? src[old_of_new[i]] : T(0);
+      for (int p = 0; p < kPer; ++p) {
+        const int i = i0 + p * kCompactThreads + threadIdx.x;
+        v[p] = i < i1 ? src[contiguous ? o0 + (i - i0) : old_of_new[i]] : T(0);
+      }
+    } else {
+#pragma unroll
+      for (int p = 0; p < kPer; ++p) {
+        const int i = i0 + p * kCompactThreads + threadIdx.x;
+        v[p] = i < i1 ? src[old_of_new[i]] : T(0);
+      }
     }
     // Release: every thread fences its own loads (a barrier alone does not
     // wait for other warps' loads in flight), then thread 0 raises the flag.
     // Acquire: thread 0 waits for the reader and fences before the barrier
-    // that lets the block store.
+    // that lets the block store. (A variant with one fence per block and a
+    // predicated barrier to retire the loads was slower on the H100,
+    // docs/BENCHMARKS.md.)
     __threadfence();
     __syncthreads();
     if (threadIdx.x == 0) {
@@ -273,77 +291,11 @@ __global__ void __launch_bounds__(kCompactThreads) compactKernel(T* __restrict__
     }
     __syncthreads();
 #pragma unroll
-    for (int p = 0; p < kCompactPer; ++p) {
+    for (int p = 0; p < kPer; ++p) {
       const int i = i0 + p * kCompactThreads + threadIdx.x;
       if (i < i1) dst[i] = v[p];
     }
-  }
-}
-
-// Leaner variant of the same pass (default; HAPI_ESKF_CUDA_COMPACT=fence
-// selects compactKernel above). Same hazard argument, three differences:
-//  * no __threadfence per thread: a worker's loads are complete once their
-//    values are consumed, which __syncthreads_or(f(values)) forces (the
-//    predicate depends on every loaded value, so the barrier cannot be passed
-//    with a load still in flight); only the coordinator fences, as the
-//    cooperative-groups grid barrier does (cumulativity through the barrier);
-//  * the coordinator is an extra warp that moves no data, so its fence does
-//    not wait for the previous chunk's stores of a data warp;
-//  * blocks are persistent: each takes column after column from the ticket
-//    (the short columns at the end of the triangle then cost one ticket, not
-//    a block launch). A block still only waits on columns with a smaller
-//    ticket, whose blocks are resident: no deadlock.
-constexpr int kLeanWorkers = 256;
-template <typename T, int kPer>
-__global__ void __launch_bounds__(kLeanWorkers + 32, kPer == 8 ? 7 : 4) compactLeanKernel(T* __restrict__ C, std::size_t ld,
-                                                                      const int* __restrict__ old_of_new,
-                                                                      const int* __restrict__ reader, int n_new,
-                                                                      int r0, int* progress, unsigned* ticket) {
-  __shared__ int s_col;
-  const bool worker = threadIdx.x < kLeanWorkers;
-  const bool coord = threadIdx.x == kLeanWorkers;
-  constexpr int kChunk = kLeanWorkers * kPer;
-  for (;;) {
-    if (coord) s_col = static_cast<int>(atomicAdd(ticket, 1u));
-    __syncthreads();
-    const int j = s_col;
-    __syncthreads();  // every thread has read s_col before the next ticket overwrites it
-    if (j >= n_new) return;
-    const int rd = reader[j];
-    const T* src = C + static_cast<std::size_t>(old_of_new[j]) * ld;
-    T* dst = C + static_cast<std::size_t>(j) * ld;
-    const int begin = max(j, r0);
-    if (begin >= n_new && coord) atomicExch(progress + j, n_new);
-    for (int i0 = begin; i0 < n_new; i0 += kChunk) {
-      const int i1 = min(i0 + kChunk, n_new);
-      T v[kPer];
-      unsigned long long mix = 0;
-#pragma unroll
-      for (int p = 0; p < kPer; ++p) {
-        const int i = i0 + p * kLeanWorkers + threadIdx.x;
-        v[p] = (worker && i < i1) ? src[old_of_new[i]] : T(0);
-        mix ^= static_cast<unsigned long long>(sizeof(T) == 8 ? __double_as_longlong(static_cast<double>(v[p]))
-                                                              : __float_as_uint(static_cast<float>(v[p])));
-      }
-      // The predicate's value is irrelevant; computing it needs every load.
-      __syncthreads_or(mix == 0x5bd1e995a5a5a5a5ull);
-      if (coord) {
-        __threadfence();
-        atomicExch(progress + j, i1);
-        if (rd >= 0 && rd != j) {
-          while (*reinterpret_cast<volatile int*>(progress + rd) < i1) __nanosleep(32);
-        }
-        __threadfence();
-      }
-      __syncthreads();
-      if (worker) {
-#pragma unroll
-        for (int p = 0; p < kPer; ++p) {
-          const int i = i0 + p * kLeanWorkers + threadIdx.x;
-          if (i < i1) dst[i] = v[p];
-        }
-      }
-    }
+    i0 = i1;
   }
 }
 
@@ -425,18 +377,18 @@ cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int
   cudaError_t e = cudaMemsetAsync(progress, 0, sizeof(int) * static_cast<std::size_t>(n_new), stream);
   if (e == cudaSuccess) e = cudaMemsetAsync(ticket, 0, sizeof(unsigned), stream);
   if (e != cudaSuccess) return e;
-  const int blocks = n_new < 4096 ? n_new : 4096;  // persistent: each block loops over tickets
   switch (variant) {
-    case CompactVariant::kFence:
-      compactKernel<T><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0, progress, ticket);
+    case CompactVariant::kAligned8:
+      compactKernel<T, 8, true><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
+                                                                         progress, ticket);
       break;
-    case CompactVariant::kLean16:
-      compactLeanKernel<T, 16><<<blocks, kLeanWorkers + 32, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
-                                                                          progress, ticket);
+    case CompactVariant::kAligned4:
+      compactKernel<T, 4, true><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
+                                                                         progress, ticket);
       break;
     default:
-      compactLeanKernel<T, 8><<<blocks, kLeanWorkers + 32, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
-                                                                         progress, ticket);
+      compactKernel<T, 8, false><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
+                                                                          progress, ticket);
       break;
   }
   return cudaGetLastError();

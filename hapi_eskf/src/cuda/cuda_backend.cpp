@@ -41,13 +41,13 @@ RankUpdate rankUpdateFromEnv() {
   return RankUpdate::kPanelGemm;
 }
 
-// HAPI_ESKF_CUDA_COMPACT=fence|lean8|lean16 selects the removal's compaction
-// kernel (default lean8; covariance_kernels.cu explains the variants).
+// HAPI_ESKF_CUDA_COMPACT=fence|aligned8|aligned4 selects the removal's
+// compaction kernel (covariance_kernels.cu explains the variants).
 CompactVariant compactVariantFromEnv() {
   const char* e = std::getenv("HAPI_ESKF_CUDA_COMPACT");
-  if (e != nullptr && std::string(e) == "fence") return CompactVariant::kFence;
-  if (e != nullptr && std::string(e) == "lean16") return CompactVariant::kLean16;
-  return CompactVariant::kLean8;
+  if (e != nullptr && std::string(e) == "aligned8") return CompactVariant::kAligned8;
+  if (e != nullptr && std::string(e) == "aligned4") return CompactVariant::kAligned4;
+  return CompactVariant::kFence;
 }
 
 template <typename T>
@@ -443,7 +443,7 @@ class CudaBackend final : public CovarianceBackend {
   int K_ = 0;
   int work_cols_ = 0;
   RankUpdate rank_ = RankUpdate::kPanelGemm;
-  CompactVariant compact_ = CompactVariant::kLean8;
+  CompactVariant compact_ = CompactVariant::kFence;
   cudaEvent_t ev_[kEvCount] = {};
   cudaStream_t stream_ = nullptr;
   cublasHandle_t blas_ = nullptr;

@@ -65,9 +65,9 @@ cudaError_t launchAddLandmarks(T* C, std::size_t ld, int n_old, const T* G, cons
 // (old_of_new increasing, length n_new). reader[c] = the target column j' with
 // old[j'] == c, or -1 (c < n_new). progress (n_new ints) and ticket are
 // scratch, zeroed here. See covariance_kernels.cu for why it is race-free.
-// Variants (HAPI_ESKF_CUDA_COMPACT=fence|lean8|lean16, default lean8; the
-// bench times each, docs/BENCHMARKS.md): all move the same elements.
-enum class CompactVariant { kFence, kLean8, kLean16 };
+// Variants (HAPI_ESKF_CUDA_COMPACT=fence|aligned8|aligned4; the bench times
+// each, docs/BENCHMARKS.md): all move the same elements the same way.
+enum class CompactVariant { kFence, kAligned8, kAligned4 };
 template <typename T>
 cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int* reader, int n_new, int r0,
                           int* progress, unsigned* ticket, CompactVariant variant, cudaStream_t stream);
