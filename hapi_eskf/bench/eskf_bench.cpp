@@ -114,6 +114,7 @@ struct Row {
   int n_updated = 0;
   // Medians of the update's device stages (HAPI_ESKF_CUDA_STAGE_TIMES=1, CUDA rows).
   std::vector<double> stages;
+  double compaction_kernel = 0;  // median device time of the compaction kernel alone
 };
 
 const char* const kStageNames[] = {"upload", "gather", "S", "potrf+readback", "host wait 1", "trsm",
@@ -141,7 +142,10 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   std::vector<std::vector<double>> stage_samples(kStageCount);
   for (int i = 0; i < warmup + iters; ++i) {
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
-    if (i == warmup) cuda::takeUpdateStageTimes();  // drop the warm-up ones
+    if (i == warmup) {  // drop the warm-up ones
+      cuda::takeUpdateStageTimes();
+      cuda::takeCompactionMs();
+    }
 #endif
     const StageTimes t = sc.iterate();
     if (!t.ok) {
@@ -166,6 +170,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
                                    u.trsm, u.solve, u.host_check2, u.rank_update};
     for (int k = 0; k < kStageCount; ++k) stage_samples[k].push_back(v[k]);
   }
+  r.compaction_kernel = median(cuda::takeCompactionMs());
 #endif
   if (!stage_samples[0].empty())
     for (int k = 0; k < kStageCount; ++k) r.stages.push_back(median(stage_samples[k]));
@@ -274,6 +279,10 @@ int main(int argc, char** argv) {
     }
     std::printf(" %.3f | %.3f |\n", sum, r.update);
   }
+  for (const Row& r : rows)
+    if (r.ok && r.compaction_kernel > 0)
+      std::printf("%s K=%d: compaction kernel alone %.3f ms (median, events), removal (host) %.3f ms\n",
+                  r.backend.c_str(), r.K, r.compaction_kernel, r.removal);
 
   // GPU/CPU ratios where both ran.
   bool header = false;

@@ -238,8 +238,7 @@ __global__ void addNewNewKernel(T* __restrict__ C, std::size_t ld, int n_old, co
 // reader's chunk ends and j waits for one chunk of the reader, not two; both
 // aligned variants also read a chunk whose source rows are contiguous (no
 // removed slot inside, almost every chunk) without the per-element index.
-constexpr int kCompactThreads = 256;
-template <typename T, int kPer, bool kAligned>
+template <typename T, int kPer, bool kAligned, int kCompactThreads = 256>
 __global__ void __launch_bounds__(kCompactThreads) compactKernel(T* __restrict__ C, std::size_t ld,
                                                                  const int* __restrict__ old_of_new,
                                                                  const int* __restrict__ reader, int n_new, int r0,
@@ -379,15 +378,19 @@ cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int
   if (e != cudaSuccess) return e;
   switch (variant) {
     case CompactVariant::kAligned8:
-      compactKernel<T, 8, true><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
+      compactKernel<T, 8, true><<<n_new, 256, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
                                                                          progress, ticket);
       break;
     case CompactVariant::kAligned4:
-      compactKernel<T, 4, true><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
+      compactKernel<T, 4, true><<<n_new, 256, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
                                                                          progress, ticket);
       break;
+    case CompactVariant::kAligned8T128:
+      compactKernel<T, 8, true, 128><<<n_new, 128, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0, progress,
+                                                                  ticket);
+      break;
     default:
-      compactKernel<T, 8, false><<<n_new, kCompactThreads, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
+      compactKernel<T, 8, false><<<n_new, 256, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
                                                                           progress, ticket);
       break;
   }

@@ -41,12 +41,13 @@ RankUpdate rankUpdateFromEnv() {
   return RankUpdate::kPanelGemm;
 }
 
-// HAPI_ESKF_CUDA_COMPACT=fence|aligned8|aligned4 selects the removal's
+// HAPI_ESKF_CUDA_COMPACT=fence|aligned8|aligned4|aligned8t128 selects the removal's
 // compaction kernel (covariance_kernels.cu explains the variants).
 CompactVariant compactVariantFromEnv() {
   const char* e = std::getenv("HAPI_ESKF_CUDA_COMPACT");
   if (e != nullptr && std::string(e) == "aligned8") return CompactVariant::kAligned8;
   if (e != nullptr && std::string(e) == "aligned4") return CompactVariant::kAligned4;
+  if (e != nullptr && std::string(e) == "aligned8t128") return CompactVariant::kAligned8T128;
   return CompactVariant::kFence;
 }
 
@@ -310,10 +311,17 @@ class CudaBackend final : public CovarianceBackend {
     HAPI_CUDA_TRY(ints_.ensure(h.size()));
     int* d = ints_.get();
     HAPI_CUDA_TRY(cudaMemcpyAsync(d, h.data(), h.size() * sizeof(int), cudaMemcpyHostToDevice, stream_));
+    HAPI_CUDA_TRY(mark(kEvStart));
     HAPI_CUDA_TRY(launchCompact<T>(C_.get(), ld_, d, d + n_new, n_new, r0, d + 2 * n_new,
                                    reinterpret_cast<unsigned*>(d + 3 * n_new), compact_, stream_));
+    HAPI_CUDA_TRY(mark(kEvUploaded));
     HAPI_CUDA_TRY(launchGatherDescriptors(desc_.get(), d + 3 * n_new + 1, K_new, D_, desc_tmp_.get(), stream_));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    if (ev_[0] != nullptr) {
+      float ms = 0;
+      HAPI_CUDA_TRY(cudaEventElapsedTime(&ms, ev_[kEvStart], ev_[kEvUploaded]));
+      recordCompactionMs(ms);
+    }
     desc_.swap(desc_tmp_);
     K_ = K_new;
     return Status::kOk;
