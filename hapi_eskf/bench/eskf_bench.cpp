@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
               o.warmup, o.cpu_warmup);
   const char* cv = std::getenv("HAPI_ESKF_CUDA_COMPACT");
   const char* rv = std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE");
-  std::printf("CUDA variants: compaction %s, rank update %s\n", cv ? cv : "fence (default)", rv ? rv : "gemm (default)");
+  std::printf("CUDA variants: compaction %s, rank update %s\n", cv ? cv : "aligned8t128 (default)", rv ? rv : "gemm (default)");
 
   Ceilings ceil;
   std::string why;

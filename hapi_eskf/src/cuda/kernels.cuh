@@ -65,9 +65,10 @@ cudaError_t launchAddLandmarks(T* C, std::size_t ld, int n_old, const T* G, cons
 // (old_of_new increasing, length n_new). reader[c] = the target column j' with
 // old[j'] == c, or -1 (c < n_new). progress (n_new ints) and ticket are
 // scratch, zeroed here. See covariance_kernels.cu for why it is race-free.
-// Variants (HAPI_ESKF_CUDA_COMPACT=fence|aligned8|aligned4|aligned8t128; the
-// bench times each, docs/BENCHMARKS.md): all move the same elements the same
-// way (t128: blocks of 128 threads, more columns in flight).
+// Variants (HAPI_ESKF_CUDA_COMPACT=fence|aligned8|aligned4|aligned8t128,
+// default aligned8t128; the bench times each, docs/BENCHMARKS.md): all move
+// the same elements the same way (t128: blocks of 128 threads, more columns
+// in flight).
 enum class CompactVariant { kFence, kAligned8, kAligned4, kAligned8T128 };
 template <typename T>
 cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int* reader, int n_new, int r0,
