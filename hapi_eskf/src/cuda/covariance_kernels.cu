@@ -235,9 +235,10 @@ __global__ void addNewNewKernel(T* __restrict__ C, std::size_t ld, int n_old, co
 // Variants (HAPI_ESKF_CUDA_COMPACT, launchCompact): kPer rows per thread per
 // chunk; kAligned puts the chunk boundaries on a global grid of kChunk rows
 // (first chunk of a column shorter), so column j's chunk ends where its
-// reader's chunk ends and j waits for one chunk of the reader, not two; both
+// reader's chunk ends and j waits for one chunk of the reader, not two; the
 // aligned variants also read a chunk whose source rows are contiguous (no
-// removed slot inside, almost every chunk) without the per-element index.
+// removed slot inside, almost every chunk) without the per-element index;
+// kCompactThreads = 128 keeps twice as many columns in flight per SM.
 template <typename T, int kPer, bool kAligned, int kCompactThreads = 256>
 __global__ void __launch_bounds__(kCompactThreads) compactKernel(T* __restrict__ C, std::size_t ld,
                                                                  const int* __restrict__ old_of_new,
