@@ -29,14 +29,21 @@ struct Association {
   int n_gated_out = 0;   // rejected by the Mahalanobis gate (or S_j not PD) or as RANSAC outliers
   int n_ransac_out = 0;  // of those: off the best rigid fit (EskfSettings::ransac_iterations)
   int n_conflicts = 0;   // dropped because another measurement took the same landmark
+  // RANSAC rigid fit world <- camera of the candidates (X ~ R Z + t), i.e. the
+  // camera pose (q = R, p = t) supported by the map alone, independent of the
+  // predicted pose; fit_inliers = 0 when RANSAC did not run or decided nothing.
+  int fit_inliers = 0;
+  Mat3 fit_R = Mat3::Identity();
+  Vec3 fit_t = Vec3::Zero();
 };
 
 // `positions` are the landmark positions in slot order (size numLandmarks()).
 // Inliers of a RANSAC rigid fit X_i ~ R Z_i + t (world landmark <- camera
 // point), Mahalanobis with W_i + R Cz_i R^T against chi2; empty = undecided.
+// R_out/t_out (optional) receive the fit that selected the returned inliers.
 std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vector<Vec3>& Z,
                                      const std::vector<Mat3>& W, const std::vector<Mat3>& Cz, int iterations,
-                                     double chi2);
+                                     double chi2, Mat3* R_out = nullptr, Vec3* t_out = nullptr);
 
 Status associate(const StereoFrame& frame, const PoseState& pose, const std::vector<Vec3>& positions,
                  const CovarianceBackend& backend, const EskfSettings& settings, Association* out);

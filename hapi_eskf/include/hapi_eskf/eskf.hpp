@@ -68,6 +68,10 @@ class Eskf {
   PoseState pose_;
   double time_ = 0.0;
   bool initialised_ = false;
+  // Relocalisation (EskfSettings::relocalise_gap): stamp of the last processed
+  // frame, and whether an outage was seen and no map fit has moved the pose yet.
+  double last_frame_stamp_ = 0.0, outage_stamp_ = 0.0;
+  bool relocalise_pending_ = false;
   uint64_t next_id_ = 1;
   // Per slot, same order as the backend's slots.
   std::vector<uint64_t> ids_;

@@ -9,6 +9,15 @@ namespace hapi_eskf {
 enum class BackendKind { kCpu, kCuda };
 enum class Precision { kFp64, kFp32 };  // storage/compute precision of C (CUDA backend)
 
+// Smallest RANSAC inlier set that may relocalise the pose (relocalise_gap):
+// 12 pairs pin 6 dof with a wide margin against a chance fit of wrong matches.
+constexpr int kRelocaliseMinInliers = 6;
+// How long after an outage frames without such a fit are held back
+// (prediction only: updating or adding landmarks at an unknown pose would
+// corrupt the map) before the filter carries on without relocalising (the
+// camera may look at unmapped ground only) [s].
+constexpr double kRelocaliseWaitS = 2.0;
+
 struct EskfSettings {
   // --- pool and per-iteration sizes (issue 3) ---
   int max_landmarks = 2000;          // K_max: capacity of the landmark pool
@@ -38,6 +47,17 @@ struct EskfSettings {
   // per-candidate gate lets through when the predicted pose is uncertain
   // (large inter-frame motion). 0 = off; used only with >= 6 candidates.
   int ransac_iterations = 0;
+  // Relocalisation after an outage [s]: when the previous frame is older than
+  // this (front end restarted, link down), the motion model is not trusted:
+  // the velocity mean is zeroed before the prediction (the covariance still
+  // grows by the process noise), and the pose mean is moved to the RANSAC
+  // rigid fit of the frame against the map (>= kRelocaliseMinInliers pairs)
+  // before gating and the update, so the update linearises at a pose the map
+  // supports instead of at a long extrapolation (rotation errors of that size
+  // are far outside the EKF's linear range and made the filter run away).
+  // Only the means move; the covariance stays the conservative predicted one.
+  // Needs ransac_iterations > 0 for the pose part; 0 = off.
+  double relocalise_gap = 0.0;
   // --- measurement model ---
   // Re-detection noise [rad, 1 sigma] of a keypoint from frame to frame,
   // perpendicular to the viewing ray: the front end's covariance describes one

@@ -71,6 +71,8 @@ struct IterationReport {
   int n_landmarks = 0;     // pool size after the iteration
   double mean_nis = 0;     // mean normalised innovation squared of the used measurements
   bool update_skipped = false;  // S not PD etc.: state left unchanged
+  bool relocalised = false;     // pose mean moved to the map fit after an outage (settings relocalise_gap)
+  bool relocalising = false;    // after an outage, no map fit yet: prediction only (no update, no additions)
 };
 
 }  // namespace hapi_eskf

@@ -107,13 +107,15 @@ int scoreRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std
 // supported by at least 3 pairs (then nothing is decided here).
 std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vector<Vec3>& Z,
                                      const std::vector<Mat3>& W, const std::vector<Mat3>& Cz, int iterations,
-                                     double chi2) {
+                                     double chi2, Mat3* R_out, Vec3* t_out) {
   const int n = static_cast<int>(X.size());
   if (n < 3) return {};
   std::mt19937 rng(0x5eed1234u + static_cast<uint32_t>(n));
   std::vector<char> best, cur;
   int best_n = 0;
   double best_cost = 0.0;
+  Mat3 best_R = Mat3::Identity();
+  Vec3 best_t = Vec3::Zero();
   for (int it = 0; it < iterations; ++it) {
     const int a = static_cast<int>(rng() % static_cast<uint32_t>(n));
     const int b = static_cast<int>(rng() % static_cast<uint32_t>(n));
@@ -130,6 +132,8 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
       best_n = k;
       best_cost = cost;
       best = cur;
+      best_R = R;
+      best_t = t;
     }
   }
   if (best_n < 3) return {};
@@ -146,10 +150,15 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
     if (!refineRigid(X, Z, W, Cz, idx, &R, &t, &P)) break;
     double cost;
     const int k = scoreRigid(X, Z, W, Cz, R, t, &P, chi2, &cur, &cost);
-    if (k < 3 || cur == best) break;
+    if (k < 3) break;
+    best_R = R;  // the refit is better than the hypothesis that found the set
+    best_t = t;
+    if (cur == best) break;
     best_n = k;
     best = cur;
   }
+  if (R_out) *R_out = best_R;
+  if (t_out) *t_out = best_t;
   return best;
 }
 
@@ -206,8 +215,12 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const std::vec
       W[c] = M[c].block<3, 3>(6, 6);
       Cz[c] = frame.measurements[cand_meas[c]].Cz;
     }
-    const std::vector<char> inl = ransacRigidInliers(X, Z, W, Cz, settings.ransac_iterations, settings.gate_chi2);
-    if (!inl.empty()) consistent = inl;
+    const std::vector<char> inl =
+        ransacRigidInliers(X, Z, W, Cz, settings.ransac_iterations, settings.gate_chi2, &a.fit_R, &a.fit_t);
+    if (!inl.empty()) {
+      consistent = inl;
+      a.fit_inliers = static_cast<int>(std::count(inl.begin(), inl.end(), 1));
+    }
   }
 
   // 3. Mahalanobis gate with the marginal S_j of each candidate alone.

@@ -74,6 +74,8 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   pose_ = initial;
   pose_.q.normalize();
   time_ = stamp;
+  last_frame_stamp_ = stamp;
+  relocalise_pending_ = false;
   initialised_ = true;
   ids_.clear();
   positions_.clear();
@@ -198,19 +200,49 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   const StereoFrame& frame = settings_.measurement_angular_sigma > 0.0 ? inflated : frame_in;
 
   // --- predict ---
+  // After an outage longer than relocalise_gap the last velocity says nothing
+  // about the motion since: predict from rest (settings.hpp).
+  const PoseState pose_before = pose_;
+  const bool outage = settings_.relocalise_gap > 0.0 && frame.stamp - last_frame_stamp_ > settings_.relocalise_gap;
+  if (outage) {
+    pose_.v.setZero();
+    pose_.w.setZero();
+    relocalise_pending_ = settings_.ransac_iterations > 0;
+    outage_stamp_ = frame.stamp;
+  }
   auto t0 = Clock::now();
   st = predictTo(frame.stamp);
   rep.t_predict_ms = msSince(t0);
-  if (st != Status::kOk) return finish(st);
+  if (st != Status::kOk) {
+    pose_ = pose_before;  // a rejected frame changes nothing
+    return finish(st);
+  }
+  last_frame_stamp_ = frame.stamp;
 
   // --- association ---
   t0 = Clock::now();
   Association assoc;
   st = associate(frame, pose_, positions_, *backend_, settings_, &assoc);
+  if (st == Status::kOk && relocalise_pending_ && assoc.fit_inliers >= kRelocaliseMinInliers) {
+    // Relocalise: the map fit becomes the linearisation point (means only),
+    // then gate again around it.
+    pose_.p = assoc.fit_t;
+    pose_.q = Eigen::Quaterniond(assoc.fit_R).normalized();
+    relocalise_pending_ = false;
+    rep.relocalised = true;
+    st = associate(frame, pose_, positions_, *backend_, settings_, &assoc);
+  }
   rep.t_association_ms = msSince(t0);
   if (st != Status::kOk) return finish(st);
   rep.n_candidates = assoc.n_candidates;
   rep.n_gated_out = assoc.n_gated_out;
+  if (relocalise_pending_) {
+    if (frame.stamp - outage_stamp_ <= kRelocaliseWaitS) {
+      rep.relocalising = true;  // settings.hpp kRelocaliseWaitS: wait for a frame the map supports
+      return finish(Status::kOk);
+    }
+    relocalise_pending_ = false;  // give up: carry on from the prediction
+  }
 
   // Strongest response first (stable: ties keep frame order).
   std::vector<int> by_response(n);

@@ -42,6 +42,8 @@ std::string EskfSettings::validate() const {
     e << "bootstrap_landmarks must be in [0, max_landmarks], got " << bootstrap_landmarks;
   else if (ransac_iterations < 0 || ransac_iterations > 100000)
     e << "ransac_iterations must be in [0, 100000], got " << ransac_iterations;
+  else if (!(std::isfinite(relocalise_gap) && relocalise_gap >= 0.0))
+    e << "relocalise_gap must be >= 0 s (0 = off), got " << relocalise_gap;
   else if (!(std::isfinite(measurement_angular_sigma) && measurement_angular_sigma >= 0.0 &&
              measurement_angular_sigma < 0.1))
     e << "measurement_angular_sigma must be in [0, 0.1) rad, got " << measurement_angular_sigma;

@@ -500,6 +500,17 @@ bool EskfNodelet::process(Work& w) {
     return false;
   }
   ++n_processed_;
+  if (rep.relocalised) {
+    ++n_relocalisations_;
+    NODELET_WARN("relocalised against the map at %.3f after an input gap (EskfSettings relocalise_gap)", stamp);
+  }
+  if (rep.relocalising) {
+    // Lost after an input gap: the pose is a stale prediction, so nothing is
+    // published until a frame the map supports has relocalised the filter.
+    ++n_relocalising_frames_;
+    NODELET_WARN_THROTTLE(1.0, "lost after an input gap: waiting for a frame the map supports (no output)");
+    return true;
+  }
   if (rep.update_skipped) {
     ++n_update_skips_;
     NODELET_WARN_THROTTLE(1.0, "update skipped at %.3f (innovation covariance not PD): prediction only", stamp);
@@ -717,6 +728,8 @@ void EskfNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   for (int r = 1; r < ros_glue::kRejectCount; ++r)
     stat.add(std::string("rejected_") + ros_glue::rejectName(static_cast<Reject>(r)), n_rejected_[r].load());
   stat.add("update_skips", n_update_skips_.load());
+  stat.add("relocalisations", n_relocalisations_.load());
+  stat.add("frames_relocalising", n_relocalising_frames_.load());
   stat.add("filter_errors", n_filter_errors_.load());
   stat.add("last_filter_error", last_error);
   stat.add("resets", n_resets_.load());

@@ -91,6 +91,7 @@ std::string loadParams(const ros::NodeHandle& pnh, NodeletParams* out) {
       readDouble(pnh, "match_ratio", &s.match_ratio, &err) && readDouble(pnh, "gate_chi2", &s.gate_chi2, &err) &&
       read(pnh, "ransac_iterations", &s.ransac_iterations, &err) &&
       readDouble(pnh, "measurement_angular_sigma", &s.measurement_angular_sigma, &err) &&
+      readDouble(pnh, "relocalise_gap", &s.relocalise_gap, &err) &&
       readDouble(pnh, "velocity_damping", &s.velocity_damping, &err) &&
       readDouble(pnh, "angular_velocity_damping", &s.angular_velocity_damping, &err) &&
       readDouble(pnh, "sigma_acceleration", &s.sigma_acceleration, &err) &&

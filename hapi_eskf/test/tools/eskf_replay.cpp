@@ -4,10 +4,12 @@
 // RMS to the true sphere) plus per-frame filter statistics. A development
 // tool for studying accuracy and consistency; not a test.
 //
-//   eskf_replay FRAMES.txt [--every k] [--verbose] [key=value ...]
+//   eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--verbose] [key=value ...]
 //
 // key=value overrides EskfSettings fields (same names as config/eskf.yaml).
 // --every k processes every k-th frame (simulates a back end that drops frames).
+// --gap START LEN skips the frames in [START, START+LEN) s after the first
+// one (simulates a front-end outage, e.g. a restart).
 #include "hapi_eskf/association.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/jacobians.hpp"
@@ -46,6 +48,7 @@ bool setField(EskfSettings* s, const std::string& k, const std::string& v) {
                                      {"match_ratio", &s->match_ratio},
                                      {"gate_chi2", &s->gate_chi2},
                                      {"measurement_angular_sigma", &s->measurement_angular_sigma},
+                                     {"relocalise_gap", &s->relocalise_gap},
                                      {"velocity_damping", &s->velocity_damping},
                                      {"angular_velocity_damping", &s->angular_velocity_damping},
                                      {"sigma_acceleration", &s->sigma_acceleration},
@@ -89,11 +92,17 @@ int main(int argc, char** argv) {
   }
   EskfSettings s;
   int every = 1;
+  double gap_start = -1.0, gap_len = 0.0;
   bool verbose = false;
   bool gtcheck = false;  // association and measurement errors against the ground truth
   for (int i = 2; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--every" && i + 1 < argc) { every = std::stoi(argv[++i]); continue; }
+    if (a == "--gap" && i + 2 < argc) {
+      gap_start = std::stod(argv[++i]);
+      gap_len = std::stod(argv[++i]);
+      continue;
+    }
     if (a == "--verbose") { verbose = true; continue; }
     if (a == "--gtcheck") { gtcheck = true; continue; }
     const auto eq = a.find('=');
@@ -162,6 +171,8 @@ int main(int argc, char** argv) {
   int n_assoc = 0, n_wrong = 0, n_meas = 0, n_meas_out = 0;
   double meas_nees = 0, ray_bias = 0, ray_rel = 0;
   for (std::size_t fi = 0; fi < frames.size(); fi += every) {
+    const double t_rel = frames[fi].stamp - frames[0].stamp;
+    if (t_rel >= gap_start && t_rel < gap_start + gap_len) continue;
     const Gt* g0 = nullptr;
     for (const Gt& g : gt)
       if (!g0 || std::abs(g.t - frames[fi].stamp) < std::abs(g0->t - frames[fi].stamp)) g0 = &g;
@@ -247,7 +258,8 @@ int main(int argc, char** argv) {
     const Gt* best = nullptr;
     for (const Gt& g : gt)
       if (!best || std::abs(g.t - frames[fi].stamp) < std::abs(best->t - frames[fi].stamp)) best = &g;
-    if (best && std::abs(best->t - frames[fi].stamp) < 0.006) {
+    // Frames held back while relocalising are not published by the nodelet.
+    if (best && std::abs(best->t - frames[fi].stamp) < 0.006 && !rep.relocalising) {
       est.push_back(eskf.pose().p);
       ref.push_back(best->p);
     }

@@ -156,7 +156,7 @@ class EskfNodelet : public nodelet::Nodelet {
   // Counters for /diagnostics.
   std::atomic<std::uint64_t> n_received_{0}, n_accepted_{0}, n_processed_{0}, n_resets_{0}, n_time_jumps_{0},
       n_update_skips_{0}, n_filter_errors_{0}, n_stale_{0}, n_failed_{0}, n_imu_used_{0}, n_imu_dropped_{0},
-      n_outputs_{0}, n_imu_outputs_{0};
+      n_outputs_{0}, n_imu_outputs_{0}, n_relocalisations_{0}, n_relocalising_frames_{0};
   std::array<std::atomic<std::uint64_t>, ros_glue::kRejectCount> n_rejected_{};
   std::mutex stats_mu_;
   StageStats stages_;
