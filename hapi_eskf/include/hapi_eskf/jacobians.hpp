@@ -18,6 +18,16 @@ Mat12 predictJacobian(const PoseState& x, double dt, const EskfSettings& s);
 // Process noise for a step of length dt: random walks on v and w.
 Mat12 processNoise(double dt, const EskfSettings& s);
 
+// One step with a gyro sample (rad/s, camera frame) replacing w: the state
+// after dt and the step's error-state F and Q (Eskf::predictWithGyro and the
+// nodelet's IMU-rate PosePropagator use the same model).
+// As an error-state map w <- gyro is dw' = n_gyro: F_rep = diag(I, I, I, 0),
+// Q_rep,ww = sigma^2 / dt (white rate noise of density sigma averaged over
+// dt); combined with the constant-velocity step F = F_cv F_rep,
+// Q = F_cv Q_rep F_cv^T + Q_cv.
+void gyroStep(const PoseState& x, const Vec3& gyro_camera, double sigma_gyro, double dt, const EskfSettings& s,
+              PoseState* next, Mat12* F, Mat12* Q);
+
 // h(x) = R^T (m - p): landmark m (world) in the camera frame.
 Vec3 measure(const PoseState& x, const Vec3& m);
 // dh/d[dp, dtheta] (3 x 6) and dh/ddm (3 x 3).

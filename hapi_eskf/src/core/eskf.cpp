@@ -98,28 +98,19 @@ Status Eskf::predictTo(double stamp) {
   return Status::kOk;
 }
 
-// w <- gyro for the step: as an error-state map that is dw' = n_gyro, i.e.
-// F_rep = diag(I, I, I, 0) and Q_rep,ww = sigma^2 / dt (white rate noise of
-// density sigma averaged over dt). Combined with the constant-velocity step:
-// F = F_cv F_rep, Q = F_cv Q_rep F_cv^T + Q_cv, one backend call.
+// w <- gyro for the step (jacobians.hpp gyroStep), one backend call.
 Status Eskf::predictWithGyro(double stamp, const Vec3& gyro_camera, double sigma_gyro) {
   if (!initialised_) return Status::kBackendUnavailable;
   if (!std::isfinite(stamp) || !gyro_camera.allFinite() || !std::isfinite(sigma_gyro)) return Status::kNonFinite;
   if (stamp < time_ || !(sigma_gyro > 0.0)) return Status::kInvalidArgument;
   const double dt = stamp - time_;
   if (dt == 0.0) return Status::kOk;
-  PoseState x = pose_;
-  x.w = gyro_camera;
-  Mat12 F_rep = Mat12::Identity();
-  F_rep.block<3, 3>(kIdxW, kIdxW).setZero();
-  Mat12 Q_rep = Mat12::Zero();
-  Q_rep.block<3, 3>(kIdxW, kIdxW).diagonal().setConstant(sigma_gyro * sigma_gyro / dt);
-  const Mat12 F_cv = predictJacobian(x, dt, settings_);
-  const Mat12 F = F_cv * F_rep;
-  const Mat12 Q = F_cv * Q_rep * F_cv.transpose() + processNoise(dt, settings_);
+  PoseState next;
+  Mat12 F, Q;
+  gyroStep(pose_, gyro_camera, sigma_gyro, dt, settings_, &next, &F, &Q);
   const Status st = backend_->predict(F, Q);
   if (st != Status::kOk) return st;
-  pose_ = predictPose(x, dt, settings_);
+  pose_ = next;
   time_ = stamp;
   return Status::kOk;
 }

@@ -48,6 +48,20 @@ Mat12 predictJacobian(const PoseState& x, double dt, const EskfSettings& s) {
 // Random walks: v and w receive white acceleration noise of density sigma,
 // i.e. variance sigma^2 dt per step. Its effect on p and theta enters through
 // F at the following steps (first order in dt).
+void gyroStep(const PoseState& x, const Vec3& gyro_camera, double sigma_gyro, double dt, const EskfSettings& s,
+              PoseState* next, Mat12* F, Mat12* Q) {
+  PoseState xg = x;
+  xg.w = gyro_camera;
+  Mat12 F_rep = Mat12::Identity();
+  F_rep.block<3, 3>(kIdxW, kIdxW).setZero();
+  Mat12 Q_rep = Mat12::Zero();
+  Q_rep.block<3, 3>(kIdxW, kIdxW).diagonal().setConstant(sigma_gyro * sigma_gyro / dt);
+  const Mat12 F_cv = predictJacobian(xg, dt, s);
+  *F = F_cv * F_rep;
+  *Q = F_cv * Q_rep * F_cv.transpose() + processNoise(dt, s);
+  *next = predictPose(xg, dt, s);
+}
+
 Mat12 processNoise(double dt, const EskfSettings& s) {
   Mat12 Q = Mat12::Zero();
   Q.block<3, 3>(kIdxV, kIdxV).diagonal().setConstant(s.sigma_acceleration * s.sigma_acceleration * dt);
