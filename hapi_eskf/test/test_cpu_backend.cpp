@@ -2,6 +2,7 @@
 // (storage contract of covariance_backend.hpp).
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/so3.hpp"
+#include "test_random.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -16,30 +17,7 @@ namespace {
 using MatX = Eigen::MatrixXd;
 using VecX = Eigen::VectorXd;
 
-struct Rng {
-  std::mt19937 gen;
-  explicit Rng(unsigned seed) : gen(seed) {}
-  double n(double s = 1.0) { return std::normal_distribution<double>(0, s)(gen); }
-  int i(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(gen); }
-  Vec3 v3(double s = 1.0) { return Vec3(n(s), n(s), n(s)); }
-  Mat3 spd3(double scale) {
-    Mat3 A;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) A(r, c) = n();
-    return scale * (A * A.transpose() + 0.5 * Mat3::Identity());
-  }
-  Mat12 spd12(double scale) {
-    Mat12 A;
-    for (int r = 0; r < 12; ++r)
-      for (int c = 0; c < 12; ++c) A(r, c) = n();
-    return scale * (A * A.transpose() / 12.0 + 0.1 * Mat12::Identity());
-  }
-  std::vector<uint8_t> bytes(int len) {
-    std::vector<uint8_t> b(len);
-    for (auto& x : b) x = static_cast<uint8_t>(i(0, 255));
-    return b;
-  }
-};
+using testing_random::Rng;
 
 // Dense reference filter: the textbook formulas on the full n x n matrix.
 struct DenseReference {

@@ -1,0 +1,49 @@
+// Random but well-posed inputs for the backend tests (CPU reference tests and
+// the CPU-vs-GPU parity tests draw from the same generator).
+#pragma once
+
+#include "hapi_eskf/types.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace hapi_eskf {
+namespace testing_random {
+
+struct Rng {
+  std::mt19937 gen;
+  explicit Rng(unsigned seed) : gen(seed) {}
+  double n(double s = 1.0) { return std::normal_distribution<double>(0, s)(gen); }
+  int i(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(gen); }
+  Vec3 v3(double s = 1.0) { return Vec3(n(s), n(s), n(s)); }
+  Mat3 spd3(double scale) {
+    Mat3 A;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) A(r, c) = n();
+    return scale * (A * A.transpose() + 0.5 * Mat3::Identity());
+  }
+  Mat12 spd12(double scale) {
+    Mat12 A;
+    for (int r = 0; r < 12; ++r)
+      for (int c = 0; c < 12; ++c) A(r, c) = n();
+    return scale * (A * A.transpose() / 12.0 + 0.1 * Mat12::Identity());
+  }
+  std::vector<uint8_t> bytes(std::size_t len) {
+    std::vector<uint8_t> b(len);
+    for (auto& x : b) x = static_cast<uint8_t>(i(0, 255));
+    return b;
+  }
+  // `count` distinct slots of [0, K), in random order.
+  std::vector<int> distinct(int K, int count) {
+    std::vector<int> all(K);
+    for (int k = 0; k < K; ++k) all[k] = k;
+    std::shuffle(all.begin(), all.end(), gen);
+    all.resize(std::min(count, K));
+    return all;
+  }
+};
+
+}  // namespace testing_random
+}  // namespace hapi_eskf
