@@ -18,6 +18,8 @@ using MatX = Eigen::MatrixXd;
 using VecX = Eigen::VectorXd;
 
 using testing_random::Rng;
+using testing_random::randomBlock;
+using testing_random::randomNewBlock;
 
 // Dense reference filter: the textbook formulas on the full n x n matrix.
 struct DenseReference {
@@ -80,28 +82,6 @@ struct DenseReference {
     *nis = nu.dot(Sinv * nu);
   }
 };
-
-MeasurementBlock randomBlock(Rng& r, int slot, double noise) {
-  MeasurementBlock b;
-  b.slot = slot;
-  const Mat3 Rt = expSO3(r.v3(1.0)).transpose();
-  const Vec3 h = r.v3(3.0);
-  b.H_pose << -Rt, skew(h);
-  b.H_landmark = Rt;
-  b.R = r.spd3(noise);
-  b.innovation = r.v3(0.05);
-  return b;
-}
-
-NewLandmarkBlock randomNewBlock(Rng& r, const std::vector<uint8_t>& d) {
-  NewLandmarkBlock b;
-  const Mat3 R = expSO3(r.v3(1.0));
-  b.G_pose << Mat3::Identity(), -R * skew(r.v3(3.0));
-  b.G_z = R;
-  b.Cz = r.spd3(0.01);
-  b.descriptor = d.data();
-  return b;
-}
 
 double maxAbs(const MatX& M) { return M.cwiseAbs().maxCoeff(); }
 

@@ -2,6 +2,8 @@
 // the CPU-vs-GPU parity tests draw from the same generator).
 #pragma once
 
+#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/so3.hpp"
 #include "hapi_eskf/types.hpp"
 
 #include <algorithm>
@@ -44,6 +46,29 @@ struct Rng {
     return all;
   }
 };
+
+// Measurement block shaped like DESIGN.md "Measurement": -R^T, [h]x, R^T.
+inline MeasurementBlock randomBlock(Rng& r, int slot, double noise) {
+  MeasurementBlock b;
+  b.slot = slot;
+  const Mat3 Rt = expSO3(r.v3(1.0)).transpose();
+  b.H_pose << -Rt, skew(r.v3(3.0));
+  b.H_landmark = Rt;
+  b.R = r.spd3(noise);
+  b.innovation = r.v3(0.05);
+  return b;
+}
+
+// New landmark shaped like DESIGN.md "New landmark": m = p + R z.
+inline NewLandmarkBlock randomNewBlock(Rng& r, const std::vector<uint8_t>& d) {
+  NewLandmarkBlock b;
+  const Mat3 R = expSO3(r.v3(1.0));
+  b.G_pose << Mat3::Identity(), -R * skew(r.v3(3.0));
+  b.G_z = R;
+  b.Cz = r.spd3(0.01);
+  b.descriptor = d.data();
+  return b;
+}
 
 }  // namespace testing_random
 }  // namespace hapi_eskf

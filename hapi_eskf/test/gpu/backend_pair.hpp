@@ -26,29 +26,8 @@ namespace gputest {
   } while (0)
 
 using testing_random::Rng;
-
-// Measurement block shaped like DESIGN.md "Measurement": -R^T, [h]x, R^T.
-inline MeasurementBlock randomBlock(Rng& r, int slot, double noise) {
-  MeasurementBlock b;
-  b.slot = slot;
-  const Mat3 Rt = expSO3(r.v3(1.0)).transpose();
-  b.H_pose << -Rt, skew(r.v3(3.0));
-  b.H_landmark = Rt;
-  b.R = r.spd3(noise);
-  b.innovation = r.v3(0.05);
-  return b;
-}
-
-// New landmark shaped like DESIGN.md "New landmark": m = p + R z.
-inline NewLandmarkBlock randomNewBlock(Rng& r, const std::vector<uint8_t>& d) {
-  NewLandmarkBlock b;
-  const Mat3 R = expSO3(r.v3(1.0));
-  b.G_pose << Mat3::Identity(), -R * skew(r.v3(3.0));
-  b.G_z = R;
-  b.Cz = r.spd3(0.01);
-  b.descriptor = d.data();
-  return b;
-}
+using testing_random::randomBlock;
+using testing_random::randomNewBlock;
 
 inline Mat12 randomF(Rng& r) {
   Mat12 F = Mat12::Identity();
