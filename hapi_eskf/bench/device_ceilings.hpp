@@ -19,16 +19,19 @@ struct Ceilings {
 
 struct RankUpdateTiming {
   bool measured = false;
-  double syrk_ms = 0, gemm_ms = 0;  // median of a few runs, random A (as in the filter)
-  double gemm_zero_ms = 0;          // panelled GEMM with A = 0: the rate depends on the data (power)
-  double trsm_ms = 0;               // A <- A L^-T (update step 3), same n x k, L k x k
+  // C <- C - A A^T, random A, median of the repetitions, per schedule
+  // (src/cuda/blas_traits.hpp RankUpdate): SYRK, panelled GEMM, recursive.
+  double syrk_ms = 0, gemm_ms = 0, recursive_ms = 0;
+  // Update step 3 with the same shape, A <- P L^-T: TRSM in place, and the
+  // trtri + GEMM of Solve::kInverse (src/cuda/cuda_backend.cpp).
+  double trsm_ms = 0, inverse_ms = 0;
   double flops = 0;                 // n^2 k (one triangle, multiply-add = 2 flops)
   double bytes = 0;                 // lower triangle read + written once, A read once
 };
 
 // false (and *why) without CUDA or device.
 bool measureCeilings(bool fp32, Ceilings* out, std::string* why);
-// Also times the TRSM of update step 3 with the same shape.
+// Also times both ways of update step 3 with the same shape.
 // Allocates its own n x n and n x k buffers (call while no backend is alive
 // when n is large); false if they do not fit.
 // reps: timed repetitions of each variant (after one warm-up); more of them

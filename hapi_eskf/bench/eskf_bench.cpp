@@ -110,15 +110,14 @@ struct Row {
   std::string note;
   double assoc = 0, removal = 0, addition = 0, predict = 0, update = 0, total = 0, bookkeeping = 0;
   double mem_gb = 0;
-  double removal_gbps = 0;  // 2 x element size x moved elements / removal time
+  double moved = 0;  // landmarks moved into freed slots per removal (median)
   int n_updated = 0;
   // Medians of the update's device stages (HAPI_ESKF_CUDA_STAGE_TIMES=1, CUDA rows).
   std::vector<double> stages;
-  double compaction_kernel = 0;  // median device time of the compaction kernel alone
 };
 
-const char* const kStageNames[] = {"upload", "gather", "S", "potrf+readback", "host wait 1", "trsm",
-                                   "trsv+gemv+readback", "host wait 2", "rank update"};
+const char* const kStageNames[] = {"upload", "gather", "S", "potrf+readback", "host wait 1", "A = P L^-T",
+                                   "y, dx + readback", "host wait 2", "rank update"};
 constexpr int kStageCount = 9;
 
 Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, int iters, int warmup,
@@ -136,15 +135,13 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     return r;
   }
   r.note.clear();
-  std::vector<double> a, rm, ad, pr, up, to, bk, nu, bw;
-  const double elem = (name == "cuda-fp32") ? 4.0 : 8.0;
+  std::vector<double> a, rm, ad, pr, up, to, bk, nu, mv;
   bool ok = true;
   std::vector<std::vector<double>> stage_samples(kStageCount);
   for (int i = 0; i < warmup + iters; ++i) {
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
     if (i == warmup) {  // drop the warm-up ones
       cuda::takeUpdateStageTimes();
-      cuda::takeCompactionMs();
     }
 #endif
     const StageTimes t = sc.iterate();
@@ -162,7 +159,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     to.push_back(t.total);
     bk.push_back(t.removal + t.addition);
     nu.push_back(t.n_updated);
-    if (t.removal > 0) bw.push_back(2.0 * elem * t.removal_moved / (t.removal * 1e-3) / 1e9);
+    mv.push_back(t.removal_moved_landmarks);
   }
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
   for (const cuda::UpdateStageTimes& u : cuda::takeUpdateStageTimes()) {
@@ -170,7 +167,6 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
                                    u.trsm, u.solve, u.host_check2, u.rank_update};
     for (int k = 0; k < kStageCount; ++k) stage_samples[k].push_back(v[k]);
   }
-  r.compaction_kernel = median(cuda::takeCompactionMs());
 #endif
   if (!stage_samples[0].empty())
     for (int k = 0; k < kStageCount; ++k) r.stages.push_back(median(stage_samples[k]));
@@ -185,7 +181,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   r.total = median(to);
   r.bookkeeping = median(bk);
   r.n_updated = static_cast<int>(median(nu));
-  r.removal_gbps = median(bw);
+  r.moved = median(mv);
   return r;
 }
 
@@ -200,9 +196,9 @@ int main(int argc, char** argv) {
   std::printf("stage times are medians over the measured iterations (after %d warm-up on CUDA, %d on CPU), in ms; "
               "total = predict + association + update + removal + addition\n",
               o.warmup, o.cpu_warmup);
-  const char* cv = std::getenv("HAPI_ESKF_CUDA_COMPACT");
   const char* rv = std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE");
-  std::printf("CUDA variants: compaction %s, rank update %s\n", cv ? cv : "aligned8t128 (default)", rv ? rv : "gemm (default)");
+  const char* sv = std::getenv("HAPI_ESKF_CUDA_SOLVE");
+  std::printf("CUDA variants: rank update %s, solve %s\n", rv ? rv : "by size (default)", sv ? sv : "by size (default)");
 
   Ceilings ceil;
   std::string why;
@@ -248,7 +244,7 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\n| backend | K | iters | association | removal | addition | predict | update | total | bookkeeping "
-              "(rem+add) | memory GB | L used | removal GB/s |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "(rem+add) | memory GB | L used | moved per removal |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     if (!r.ok) {
       std::printf("| %s | %d | - | %s |\n", r.backend.c_str(), r.K, r.note.c_str());
@@ -256,7 +252,7 @@ int main(int argc, char** argv) {
     }
     std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d | %.0f |\n",
                 r.backend.c_str(), r.K, r.iters, r.assoc, r.removal, r.addition, r.predict, r.update, r.total,
-                r.bookkeeping, r.mem_gb, r.n_updated, r.removal_gbps);
+                r.bookkeeping, r.mem_gb, r.n_updated, r.moved);
   }
 
   // The update's device stages, where recorded (HAPI_ESKF_CUDA_STAGE_TIMES=1).
@@ -279,10 +275,6 @@ int main(int argc, char** argv) {
     }
     std::printf(" %.3f | %.3f |\n", sum, r.update);
   }
-  for (const Row& r : rows)
-    if (r.ok && r.compaction_kernel > 0)
-      std::printf("%s K=%d: compaction kernel alone %.3f ms (median, events), removal (host) %.3f ms\n",
-                  r.backend.c_str(), r.K, r.compaction_kernel, r.removal);
 
   // GPU/CPU ratios where both ran.
   bool header = false;
@@ -303,19 +295,19 @@ int main(int argc, char** argv) {
   }
 
   if (!rank.empty()) {
-    std::printf("\nC <- C - A A^T alone (n = 12 + 3K, rank 3L = %d, random A, median of %d back-to-back repetitions; "
-                "flops = n^2 3L; bytes = lower triangle read + written + A), and the TRSM A <- A L^-T of the same shape:\n"
-                "| K | SYRK ms | panel-GEMM ms | panel-GEMM, A = 0, ms | floor ms | best / floor | best TFLOP/s | best GB/s "
-                "| TRSM ms |\n|---|---|---|---|---|---|---|---|---|\n",
+    std::printf("\nC <- C - A A^T alone (n = 12 + 3K, rank 3L = %d, random A, median of %d interleaved repetitions; "
+                "flops = n^2 3L; bytes = lower triangle read + written + A; floor = max(flops / GEMM ceiling, bytes / "
+                "copy ceiling)), and update step 3 A = P L^-T of the same shape (TRSM vs trtri + GEMM):\n"
+                "| K | SYRK ms | panel-GEMM ms | recursive ms | floor ms | best / floor | best TFLOP/s | TRSM ms | "
+                "trtri+GEMM ms |\n|---|---|---|---|---|---|---|---|---|\n",
                 3 * o.visible, o.rank_reps);
     for (const auto& kv : rank) {
       const RankUpdateTiming& t = kv.second;
       const double floor_ms =
           std::max(t.flops / (ceil.gemm_tflops * 1e12), t.bytes / (ceil.copy_gbps * 1e9)) * 1e3;
-      const double best = std::min(t.syrk_ms, t.gemm_ms);
-      std::printf("| %d | %.3f | %.3f | %.3f | %.3f | %.2f | %.1f | %.0f | %.3f |\n", kv.first, t.syrk_ms, t.gemm_ms,
-                  t.gemm_zero_ms, floor_ms, best / floor_ms, t.flops / (best * 1e-3) / 1e12,
-                  t.bytes / (best * 1e-3) / 1e9, t.trsm_ms);
+      const double best = std::min({t.syrk_ms, t.gemm_ms, t.recursive_ms});
+      std::printf("| %d | %.3f | %.3f | %.3f | %.3f | %.2f | %.1f | %.3f | %.3f |\n", kv.first, t.syrk_ms, t.gemm_ms,
+                  t.recursive_ms, floor_ms, best / floor_ms, t.flops / (best * 1e-3) / 1e12, t.trsm_ms, t.inverse_ms);
     }
   }
   return 0;

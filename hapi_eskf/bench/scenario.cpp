@@ -1,5 +1,7 @@
 #include "scenario.hpp"
 
+#include "hapi_eskf/removal_plan.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <numeric>
@@ -166,32 +168,15 @@ StageTimes Scenario::iterate() {
   std::vector<int> evict(cand.begin(), cand.begin() + n_evict);
   std::sort(evict.begin(), evict.end());
   if (!check(b_->removeLandmarks(evict), "removal", &st)) return st;
-  // The host mirror (positions, descriptors, ages) compacted the same way: one
-  // pass, O(K), not one erase (O(K) each) per evicted landmark.
+  // The host mirror (positions, descriptors, ages) follows the same slot plan.
   {
-    std::size_t w = 0, e = 0;
-    for (std::size_t k = 0; k < positions_.size(); ++k) {
-      if (e < evict.size() && static_cast<std::size_t>(evict[e]) == k) {
-        ++e;
-        continue;
-      }
-      if (w != k) {
-        positions_[w] = positions_[k];
-        desc_[w].swap(desc_[k]);
-        last_seen_[w] = last_seen_[k];
-      }
-      ++w;
-    }
-    positions_.resize(w);
-    desc_.resize(w);
-    last_seen_.resize(w);
+    const std::vector<SlotMove> moves = tailFillMoves(K, evict);
+    applyRemoval(moves, K - n_evict, &positions_);
+    applyRemoval(moves, K - n_evict, &desc_);
+    applyRemoval(moves, K - n_evict, &last_seen_);
+    st.removal_moved_landmarks = static_cast<int>(moves.size());
   }
   st.n_removed = n_evict;
-  if (!evict.empty()) {
-    // Target rows i >= max(j, r0) of every column j < n_new move.
-    const double nn = stateDim(K - n_evict), r0 = std::min<double>(landmarkRow(evict.front()), nn);
-    st.removal_moved = r0 * (nn - r0) + 0.5 * (nn - r0) * (nn - r0 + 1);
-  }
   st.removal = msSince(t0);
 
   // --- addition: the fresh measurements ---

@@ -22,9 +22,9 @@ namespace bench {
 struct StageTimes {
   double association = 0, removal = 0, addition = 0, predict = 0, update = 0, total = 0;
   int n_updated = 0, n_added = 0, n_removed = 0;
-  // Elements of the lower triangle the removal had to move (the compaction's
-  // minimum traffic is 2 x element size x this: one read, one write each).
-  double removal_moved = 0;
+  // Landmarks the removal moved into freed slots (removal_plan.hpp): each
+  // move copies 3 rows/columns of C, 3 (12 + 3K) elements.
+  int removal_moved_landmarks = 0;
   bool ok = true;
   std::string failure;  // "<stage>: <status>" of the first failed call
 };

@@ -1,6 +1,7 @@
 // Eigen backend against a dense textbook EKF and its bookkeeping invariants
 // (storage contract of covariance_backend.hpp).
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/removal_plan.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "test_random.hpp"
 
@@ -50,18 +51,21 @@ struct DenseReference {
     }
     C = J * C * J.transpose() + Nz;
   }
-  void remove(std::vector<int> slots) {
-    std::sort(slots.begin(), slots.end());
+  // Selects the kept rows/columns in the slot order of removal_plan.hpp
+  // (whose own rule is pinned by test_removal_plan.cpp).
+  void remove(const std::vector<int>& slots) {
+    const std::vector<int> old_slot = oldSlotOfNew(K(), slots);
     std::vector<int> keep;
     for (int i = 0; i < 12; ++i) keep.push_back(i);
-    for (int k = 0; k < K(); ++k)
-      if (!std::binary_search(slots.begin(), slots.end(), k))
-        for (int c = 0; c < 3; ++c) keep.push_back(12 + 3 * k + c);
+    for (int k : old_slot)
+      for (int c = 0; c < 3; ++c) keep.push_back(12 + 3 * k + c);
     MatX D(keep.size(), keep.size());
     for (std::size_t r = 0; r < keep.size(); ++r)
       for (std::size_t c = 0; c < keep.size(); ++c) D(r, c) = C(keep[r], keep[c]);
     C = D;
-    for (auto it = slots.rbegin(); it != slots.rend(); ++it) desc.erase(desc.begin() + *it);
+    std::vector<std::vector<uint8_t>> d;
+    for (int k : old_slot) d.push_back(desc[k]);
+    desc = d;
   }
   // K = C H^T S^-1, C <- C - K S K^T, dx = K nu.
   void update(const std::vector<MeasurementBlock>& blocks, VecX* dx, double* nis) {
@@ -200,12 +204,12 @@ TEST(CpuBackend, RemoveThenReAddLeavesOtherBlocksBitwiseUntouched) {
 
   ASSERT_EQ(b->removeLandmarks({3}), Status::kOk);
   const MatX after = b->denseCovariance();
-  // Old index of each new row/column.
+  // Slot 3 is refilled by the last landmark (7); slots 0-2 and 4-6 stay.
+  const int old_slot[7] = {0, 1, 2, 7, 4, 5, 6};
   std::vector<int> keep;
   for (int i = 0; i < 12; ++i) keep.push_back(i);
-  for (int k = 0; k < 8; ++k)
-    if (k != 3)
-      for (int c = 0; c < 3; ++c) keep.push_back(12 + 3 * k + c);
+  for (int k : old_slot)
+    for (int c = 0; c < 3; ++c) keep.push_back(12 + 3 * k + c);
   ASSERT_EQ(after.rows(), static_cast<int>(keep.size()));
   for (std::size_t i = 0; i < keep.size(); ++i)
     for (std::size_t j = 0; j < keep.size(); ++j) ASSERT_EQ(after(i, j), before(keep[i], keep[j]));
@@ -217,15 +221,13 @@ TEST(CpuBackend, RemoveThenReAddLeavesOtherBlocksBitwiseUntouched) {
   // Everything that existed before the re-addition is bit-for-bit the same.
   EXPECT_EQ(maxAbs(readded.topLeftCorner(after.rows(), after.cols()) - after), 0.0);
   const auto desc_after = b->descriptors();
-  for (int k = 0, dst = 0; k < 8; ++k) {
-    if (k == 3) continue;
-    EXPECT_EQ(0, std::memcmp(&desc_after[dst * dlen], &desc_before[k * dlen], dlen));
-    ++dst;
-  }
+  for (int k = 0; k < 7; ++k) EXPECT_EQ(0, std::memcmp(&desc_after[k * dlen], &desc_before[old_slot[k] * dlen], dlen));
   EXPECT_EQ(0, std::memcmp(&desc_after[7 * dlen], d.data(), dlen));  // the new one is last
 }
 
-TEST(CpuBackend, CompactionKeepsRelativeOrder) {
+// Only the landmarks above the new end move, into the lowest holes; the
+// others keep their slot (and their blocks, bit for bit).
+TEST(CpuBackend, RemovalFillsHolesFromTheTail) {
   Rng r(14);
   const int dlen = 4;
   auto b = makeCpuBackend(10, dlen);
@@ -240,7 +242,7 @@ TEST(CpuBackend, CompactionKeepsRelativeOrder) {
   ASSERT_EQ(b->numLandmarks(), 4);
   const auto d = b->descriptors();
   const auto cov = b->landmarkCovariances();
-  const int expect[] = {0, 2, 3, 7};
+  const int expect[] = {0, 7, 2, 3};
   for (int k = 0; k < 4; ++k) {
     EXPECT_EQ(d[k * dlen], expect[k]);
     EXPECT_EQ(maxAbs(cov[k] - cov_before[expect[k]]), 0.0);

@@ -7,6 +7,7 @@
 // Storage contract shared by both backends (and relied on by the tests):
 //  * landmarks occupy contiguous slots 0..K-1; slot k owns rows/columns
 //    landmarkRow(k) .. +2; capacity is fixed at construction (max_landmarks);
+//    a removal refills its holes from the tail (removal_plan.hpp);
 //  * the LOWER triangle of C is authoritative (SYRK writes one triangle);
 //    denseCovariance() returns the symmetrised matrix;
 //  * every call completes before it returns (timings taken around a call are
@@ -85,8 +86,10 @@ class CovarianceBackend {
   // (and G_i C_pp G_j^T between two new landmarks). O(n) per landmark.
   virtual Status addLandmarks(const std::vector<NewLandmarkBlock>& blocks) = 0;
 
-  // Removes the given slots in ONE compaction pass; the remaining landmarks
-  // keep their relative order (slot indices shift down). Distinct, valid slots.
+  // Removes the given slots (distinct, valid, any order). Slots stay dense:
+  // the kept landmarks at slots >= K - r fill the removed slots below K - r
+  // (removal_plan.hpp, "fill holes from the tail"); every other landmark keeps
+  // its slot and its rows/columns of C bit for bit. O(n) per moved landmark.
   virtual Status removeLandmarks(const std::vector<int>& slots) = 0;
 
   // Hamming matching of query descriptors (n_query * descriptorLength() bytes)

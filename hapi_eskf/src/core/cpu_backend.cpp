@@ -5,6 +5,7 @@
 // rank update writes just that triangle). Every method validates all inputs
 // before touching C, so an error return leaves the state bit-for-bit unchanged.
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/removal_plan.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -187,6 +188,10 @@ class CpuBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
+  // Fill holes from the tail (removal_plan.hpp): each moved landmark's 3 rows
+  // and columns are copied into its new slot, nothing else moves. Every source
+  // element has an index >= n_new (the movers sit in slots >= K - r) and every
+  // destination both indices < n_new, so the copies cannot overwrite a source.
   Status removeLandmarks(const std::vector<int>& slots) override {
     if (slots.empty()) return Status::kOk;
     std::vector<char> drop(K_, 0);
@@ -195,36 +200,21 @@ class CpuBackend final : public CovarianceBackend {
       if (drop[s]) return Status::kDuplicateId;
       drop[s] = 1;
     }
-    const int n = dim();
-    // Old index of every kept row/column, in increasing order.
-    std::vector<int> keep;
-    keep.reserve(n);
-    for (int i = 0; i < kPoseDim; ++i) keep.push_back(i);
-    for (int k = 0; k < K_; ++k)
-      if (!drop[k])
-        for (int c = 0; c < 3; ++c) keep.push_back(landmarkRow(k) + c);
-    const int nn = static_cast<int>(keep.size());
-    // One in-place pass over the lower triangle, column by column, top to
-    // bottom: the destination (in, jn) never lies after the source (io, jo) in
-    // column-major order and both sequences are increasing, so nothing is
-    // overwritten before it has been read.
-    double* c = C_.data();
-    const std::ptrdiff_t N = N_;
-    for (int jn = 0; jn < nn; ++jn) {
-      const int jo = keep[jn];
-      for (int in = jn; in < nn; ++in) c[in + jn * N] = c[keep[in] + jo * N];
-    }
-    if (desc_len_ > 0) {
-      int dst = 0;
-      for (int k = 0; k < K_; ++k) {
-        if (drop[k]) continue;
-        if (dst != k)
-          std::memmove(&desc_[static_cast<std::size_t>(dst) * desc_len_],
-                       &desc_[static_cast<std::size_t>(k) * desc_len_], desc_len_);
-        ++dst;
+    const int K_new = K_ - static_cast<int>(slots.size());
+    const int n_new = stateDim(K_new);
+    const std::vector<int> old_slot = oldSlotOfNew(K_, slots);
+    auto oldIndex = [&](int j) { return j < kPoseDim ? j : landmarkRow(old_slot[(j - kPoseDim) / 3]) + (j - kPoseDim) % 3; };
+    auto at = [&](int i, int j) -> double& { return i >= j ? C_(i, j) : C_(j, i); };  // lower triangle
+    for (const SlotMove& mv : tailFillMoves(K_, slots)) {
+      for (int r = 0; r < 3; ++r) {
+        const int dst = landmarkRow(mv.to) + r, src = landmarkRow(mv.from) + r;
+        for (int j = 0; j < n_new; ++j) at(dst, j) = at(src, oldIndex(j));
       }
+      if (desc_len_ > 0)
+        std::memcpy(&desc_[static_cast<std::size_t>(mv.to) * desc_len_],
+                    &desc_[static_cast<std::size_t>(mv.from) * desc_len_], desc_len_);
     }
-    K_ -= static_cast<int>(slots.size());
+    K_ = K_new;
     return Status::kOk;
   }
 

@@ -26,6 +26,7 @@
 
 #include "hapi_eskf/association.hpp"
 #include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/removal_plan.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -319,24 +320,14 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
         rep.t_removal_ms = msSince(t0);
         return finish(st);
       }
-      // Same single-pass compaction on the host arrays.
-      std::vector<char> drop(K, 0);
-      for (int k : evict) drop[k] = 1;
-      int dst = 0;
-      for (int k = 0; k < K; ++k) {
-        if (drop[k]) continue;
-        ids_[dst] = ids_[k];
-        positions_[dst] = positions_[k];
-        colours_[dst] = colours_[k];
-        times_observed_[dst] = times_observed_[k];
-        last_seen_[dst] = last_seen_[k];
-        ++dst;
-      }
-      ids_.resize(dst);
-      positions_.resize(dst);
-      colours_.resize(dst);
-      times_observed_.resize(dst);
-      last_seen_.resize(dst);
+      // The same slot plan on the host arrays (removal_plan.hpp).
+      const std::vector<SlotMove> moves = tailFillMoves(K, evict);
+      const int K_new = K - n_evict;
+      applyRemoval(moves, K_new, &ids_);
+      applyRemoval(moves, K_new, &positions_);
+      applyRemoval(moves, K_new, &colours_);
+      applyRemoval(moves, K_new, &times_observed_);
+      applyRemoval(moves, K_new, &last_seen_);
       rep.n_removed = n_evict;
     }
     n_add = std::min<int>(static_cast<int>(add_meas.size()), settings_.max_landmarks - numLandmarks());

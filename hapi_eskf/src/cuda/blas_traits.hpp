@@ -5,6 +5,9 @@
 #include <cublas_v2.h>
 #include <cusolverDn.h>
 
+#include <cstddef>
+#include <string>
+
 namespace hapi_eskf {
 namespace cuda {
 
@@ -13,6 +16,7 @@ struct Blas;
 
 template <>
 struct Blas<double> {
+  static constexpr cudaDataType kType = CUDA_R_64F;
   static cublasStatus_t syrk(cublasHandle_t h, int n, int k, double alpha, const double* A, int lda, double beta,
                              double* C, int ldc) {
     return cublasDsyrk(h, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_N, n, k, &alpha, A, lda, &beta, C, ldc);
@@ -46,6 +50,7 @@ struct Blas<double> {
 
 template <>
 struct Blas<float> {
+  static constexpr cudaDataType kType = CUDA_R_32F;
   static cublasStatus_t syrk(cublasHandle_t h, int n, int k, float alpha, const float* A, int lda, float beta,
                              float* C, int ldc) {
     return cublasSsyrk(h, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_N, n, k, &alpha, A, lda, &beta, C, ldc);
@@ -74,18 +79,54 @@ struct Blas<float> {
   }
 };
 
-// C <- C - A A^T on the lower triangle of the leading n x n block: either one
-// cuBLAS SYRK, or column panels of width `panel` each updated by one GEMM
-// (C[j:, j:j+b] -= A[j:, :] A[j:j+b, :]^T; the few upper entries of each
-// diagonal panel are scratch under the storage contract). The GEMM path runs
-// cuBLAS's best kernels; the bench measures both (docs/BENCHMARKS.md).
-enum class RankUpdate { kSyrk, kPanelGemm };
+// In-place inverse of a lower-triangular L (n x n, leading dim n): cuSOLVER's
+// trtri, precision from Blas<T>::kType. Buffers are the caller's (sizes from
+// trtriBufferSize). The strictly upper triangle is left as it was.
+template <typename T>
+cusolverStatus_t trtriBufferSize(cusolverDnHandle_t h, int n, T* L, std::size_t* device_bytes,
+                                 std::size_t* host_bytes) {
+  return cusolverDnXtrtri_bufferSize(h, CUBLAS_FILL_MODE_LOWER, CUBLAS_DIAG_NON_UNIT, n, Blas<T>::kType, L, n,
+                                     device_bytes, host_bytes);
+}
+template <typename T>
+cusolverStatus_t trtri(cusolverDnHandle_t h, int n, T* L, void* device_work, std::size_t device_bytes,
+                       void* host_work, std::size_t host_bytes, int* info) {
+  return cusolverDnXtrtri(h, CUBLAS_FILL_MODE_LOWER, CUBLAS_DIAG_NON_UNIT, n, Blas<T>::kType, L, n, device_work,
+                          device_bytes, host_work, host_bytes, info);
+}
+
+// C <- C - A A^T on the lower triangle of the leading n x n block, three
+// schedules of the same n^2 k flops (HAPI_ESKF_CUDA_RANK_UPDATE, the bench
+// times each on the device, docs/BENCHMARKS.md):
+//  * kSyrk: one cuBLAS SYRK;
+//  * kPanelGemm: column panels of width `panel`, one GEMM each
+//    (C[j:, j:j+b] -= A[j:, :] A[j:j+b, :]^T; the few upper entries of each
+//    diagonal panel are scratch under the storage contract);
+//  * kRecursive: the triangle halved recursively: the square lower-left block
+//    of each level is ONE GEMM (few, large, square GEMMs: cuBLAS's best rate
+//    for k = 3L is on square shapes), the two diagonal halves recurse, down to
+//    diagonal blocks of at most `panel` rows, done by SYRK. No wasted flops.
+enum class RankUpdate { kSyrk, kPanelGemm, kRecursive };
+
+template <typename T>
+cublasStatus_t rankUpdateRecursive(cublasHandle_t h, int n, int k, const T* A, int lda, T* C, std::size_t ldc,
+                                   int leaf) {
+  if (n <= leaf) return Blas<T>::syrk(h, n, k, T(-1), A, lda, T(1), C, static_cast<int>(ldc));
+  int h1 = ((n / 2 + 127) / 128) * 128;  // split on a 128-row grid (whole GEMM tiles)
+  if (h1 >= n) h1 = n / 2;
+  cublasStatus_t s = Blas<T>::gemmNT(h, n - h1, h1, k, T(-1), A + h1, lda, A, lda, T(1), C + h1, static_cast<int>(ldc));
+  if (s != CUBLAS_STATUS_SUCCESS) return s;
+  s = rankUpdateRecursive<T>(h, h1, k, A, lda, C, ldc, leaf);
+  if (s != CUBLAS_STATUS_SUCCESS) return s;
+  return rankUpdateRecursive<T>(h, n - h1, k, A + h1, lda, C + h1 + static_cast<std::size_t>(h1) * ldc, ldc, leaf);
+}
 
 template <typename T>
 cublasStatus_t rankUpdate(cublasHandle_t h, RankUpdate how, int n, int k, const T* A, int lda, T* C,
                           std::size_t ldc, int panel) {
   if (n <= 0 || k <= 0) return CUBLAS_STATUS_SUCCESS;
   if (how == RankUpdate::kSyrk) return Blas<T>::syrk(h, n, k, T(-1), A, lda, T(1), C, static_cast<int>(ldc));
+  if (how == RankUpdate::kRecursive) return rankUpdateRecursive<T>(h, n, k, A, lda, C, ldc, panel);
   for (int j = 0; j < n; j += panel) {
     const int b = n - j < panel ? n - j : panel;
     const cublasStatus_t s = Blas<T>::gemmNT(h, n - j, b, k, T(-1), A + j, lda, A + j, lda, T(1),
@@ -95,11 +136,44 @@ cublasStatus_t rankUpdate(cublasHandle_t h, RankUpdate how, int n, int k, const 
   return CUBLAS_STATUS_SUCCESS;
 }
 
-// Panel width: a few percent of extra flops on the diagonal panels against
-// GEMMs large enough to run at full rate.
+// Panel width (kPanelGemm) / largest diagonal leaf (kRecursive): a few percent
+// of extra flops on the diagonal panels against GEMMs large enough to run at
+// full rate.
 inline int defaultPanel(int n) {
   int p = ((n / 24 + 255) / 256) * 256;
   return p < 512 ? 512 : (p > 4096 ? 4096 : p);
+}
+
+// Schedule and solve chosen by size when the environment names none. From
+// the H100 runs in docs/BENCHMARKS.md (in-filter and isolated, same run):
+// one SYRK is fastest while launches dominate (K <= 2000), the panelled GEMM
+// around K = 4000, the recursive schedule from K = 8000 up (K = 32000: 130 ms
+// in the filter vs 145-148 for the other two); TRSM is faster than
+// trtri + GEMM below n ~ 20000 (K = 4000: 0.59 vs 0.79 ms), slower above
+// (K = 32000: 3.8 vs 2.1 ms).
+inline RankUpdate autoRankUpdate(int n) {
+  return n < 8192 ? RankUpdate::kSyrk : (n < 16384 ? RankUpdate::kPanelGemm : RankUpdate::kRecursive);
+}
+inline bool autoSolveByInverse(int n) { return n >= 20000; }
+
+// Leading dimension of C and the n x 3m workspaces for n rows: a multiple of
+// 32 elements, so every column starts on a 256-byte boundary (whole memory
+// sectors and aligned GEMM tiles; ld = 96012 put column starts at 4 different
+// offsets within 128 bytes).
+inline std::size_t paddedLd(int n) { return (static_cast<std::size_t>(n) + 31) / 32 * 32; }
+
+// Name <-> variant, for the environment switch and the bench's labels.
+inline const char* toString(RankUpdate r) {
+  return r == RankUpdate::kSyrk ? "syrk" : (r == RankUpdate::kRecursive ? "recursive" : "gemm");
+}
+inline bool parseRankUpdate(const char* s, RankUpdate* out) {
+  if (s == nullptr) return false;
+  const std::string v(s);
+  if (v == "syrk") *out = RankUpdate::kSyrk;
+  else if (v == "gemm") *out = RankUpdate::kPanelGemm;
+  else if (v == "recursive") *out = RankUpdate::kRecursive;
+  else return false;
+  return true;
 }
 
 }  // namespace cuda

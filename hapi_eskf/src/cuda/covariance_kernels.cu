@@ -216,87 +216,29 @@ __global__ void addNewNewKernel(T* __restrict__ C, std::size_t ld, int n_old, co
   C[n_old + a + static_cast<std::size_t>(n_old + b) * ld] = static_cast<T>(acc);
 }
 
-// Single in-place compaction pass (DESIGN.md "Removal"): target (i, j) of the
-// lower triangle receives source (old[i], old[j]), old[] increasing, so every
-// element moves up and/or left by at most 3 x (removed count). One block per
-// target column j walks its rows in chunks: load the chunk's sources into
-// registers, then store them. Hazards and why this order is safe:
-//  * inside column j (old[j] == j): a chunk reads rows >= its first row and
-//    writes only rows below the next chunk's first row, and the barrier
-//    between load and store keeps the block's own reads ahead of its writes;
-//  * across columns: location column j is read by exactly one target column
-//    j' = reader[j] <= j (old[j'] == j). Before storing rows [i0, i1) the block
-//    waits until j' has LOADED all its targets < i1 (progress[j'] >= i1); the
-//    targets that read rows < i1 of column j are exactly those (old[i] >= i).
-// Blocks take their column from an atomic ticket, so a block only ever waits
-// on a column whose block is already running: no deadlock whatever the order
-// in which the hardware schedules blocks. One read and one write per moved
-// element (the strip-and-workspace pass it replaces moved every element twice).
-// Variants (HAPI_ESKF_CUDA_COMPACT, launchCompact): kPer rows per thread per
-// chunk; kAligned puts the chunk boundaries on a global grid of kChunk rows
-// (first chunk of a column shorter), so column j's chunk ends where its
-// reader's chunk ends and j waits for one chunk of the reader, not two; the
-// aligned variants also read a chunk whose source rows are contiguous (no
-// removed slot inside, almost every chunk) without the per-element index;
-// kCompactThreads = 128 keeps twice as many columns in flight per SM.
-template <typename T, int kPer, bool kAligned, int kCompactThreads = 256>
-__global__ void __launch_bounds__(kCompactThreads) compactKernel(T* __restrict__ C, std::size_t ld,
-                                                                 const int* __restrict__ old_of_new,
-                                                                 const int* __restrict__ reader, int n_new, int r0,
-                                                                 int* progress, unsigned* ticket) {
-  __shared__ int s_col;
-  if (threadIdx.x == 0) s_col = static_cast<int>(atomicAdd(ticket, 1u));
-  __syncthreads();
-  const int j = s_col;
+template <typename T>
+__global__ void zeroStrictUpperKernel(T* __restrict__ M, int n) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  for (int j = blockIdx.y; j < n; j += gridDim.y)
+    if (i < j) M[i + static_cast<std::size_t>(j) * n] = T(0);
+}
+
+// One thread per (moved row, target column j): see launchFillHoles in
+// kernels.cuh for why reading and writing the same matrix is safe. Threads of
+// a warp take consecutive j, so the column part of each copy (j >= D) is
+// coalesced; the row part is a strided gather/scatter of 3 h (D - 12) elements.
+template <typename T>
+__global__ void fillHolesKernel(T* __restrict__ C, std::size_t ld, int n_new, const int* __restrict__ old_slot,
+                                const int* __restrict__ holes) {
+  const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= n_new) return;
-  const int rd = reader[j];
-  const T* src = C + static_cast<std::size_t>(old_of_new[j]) * ld;
-  T* dst = C + static_cast<std::size_t>(j) * ld;
-  constexpr int kChunk = kCompactThreads * kPer;
-  const int begin = max(j, r0);
-  if (begin >= n_new && threadIdx.x == 0) atomicExch(progress + j, n_new);
-  for (int i0 = begin; i0 < n_new;) {
-    const int i1 = min(kAligned ? (i0 / kChunk + 1) * kChunk : i0 + kChunk, n_new);
-    T v[kPer];
-    if (kAligned) {
-      const int o0 = old_of_new[i0];
-      const bool contiguous = old_of_new[i1 - 1] - o0 == i1 - 1 - i0;
-#pragma unroll
-      for (int p = 0; p < kPer; ++p) {
-        const int i = i0 + p * kCompactThreads + threadIdx.x;
-        v[p] = i < i1 ? src[contiguous ? o0 + (i - i0) : old_of_new[i]] : T(0);
-      }
-    } else {
-#pragma unroll
-      for (int p = 0; p < kPer; ++p) {
-        const int i = i0 + p * kCompactThreads + threadIdx.x;
-        v[p] = i < i1 ? src[old_of_new[i]] : T(0);
-      }
-    }
-    // Release: every thread fences its own loads (a barrier alone does not
-    // wait for other warps' loads in flight), then thread 0 raises the flag.
-    // Acquire: thread 0 waits for the reader and fences before the barrier
-    // that lets the block store. (A variant with one fence per block and a
-    // predicated barrier to retire the loads was slower on the H100,
-    // docs/BENCHMARKS.md.)
-    __threadfence();
-    __syncthreads();
-    if (threadIdx.x == 0) {
-      __threadfence();
-      atomicExch(progress + j, i1);
-      if (rd >= 0 && rd != j) {
-        while (*reinterpret_cast<volatile int*>(progress + rd) < i1) __nanosleep(64);
-      }
-      __threadfence();
-    }
-    __syncthreads();
-#pragma unroll
-    for (int p = 0; p < kPer; ++p) {
-      const int i = i0 + p * kCompactThreads + threadIdx.x;
-      if (i < i1) dst[i] = v[p];
-    }
-    i0 = i1;
-  }
+  const int t = blockIdx.y / 3, r = blockIdx.y % 3;
+  const int hole = holes[t];
+  const int D = 12 + 3 * hole + r;
+  const int S = 12 + 3 * old_slot[hole] + r;
+  const int m = j < 12 ? j : 12 + 3 * old_slot[(j - 12) / 3] + (j - 12) % 3;
+  const T v = C[static_cast<std::size_t>(max(S, m)) + static_cast<std::size_t>(min(S, m)) * ld];
+  C[static_cast<std::size_t>(max(D, j)) + static_cast<std::size_t>(min(D, j)) * ld] = v;
 }
 
 inline unsigned blocksFor(long long count) { return static_cast<unsigned>((count + kThreads - 1) / kThreads); }
@@ -371,31 +313,24 @@ cudaError_t launchAddLandmarks(T* C, std::size_t ld, int n_old, const T* G, cons
 }
 
 template <typename T>
-cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int* reader, int n_new, int r0,
-                          int* progress, unsigned* ticket, CompactVariant variant, cudaStream_t stream) {
-  if (r0 >= n_new) return cudaSuccess;  // only the tail was removed: nothing moves
-  cudaError_t e = cudaMemsetAsync(progress, 0, sizeof(int) * static_cast<std::size_t>(n_new), stream);
-  if (e == cudaSuccess) e = cudaMemsetAsync(ticket, 0, sizeof(unsigned), stream);
-  if (e != cudaSuccess) return e;
-  switch (variant) {
-    case CompactVariant::kAligned8:
-      compactKernel<T, 8, true><<<n_new, 256, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
-                                                                         progress, ticket);
-      break;
-    case CompactVariant::kAligned4:
-      compactKernel<T, 4, true><<<n_new, 256, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
-                                                                         progress, ticket);
-      break;
-    case CompactVariant::kAligned8T128:
-      compactKernel<T, 8, true, 128><<<n_new, 128, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0, progress,
-                                                                  ticket);
-      break;
-    default:
-      compactKernel<T, 8, false><<<n_new, 256, 0, stream>>>(C, ld, old_of_new, reader, n_new, r0,
-                                                                          progress, ticket);
-      break;
-  }
+cudaError_t launchZeroStrictUpper(T* M, int n, cudaStream_t stream) {
+  if (n <= 1) return cudaSuccess;
+  zeroStrictUpperKernel<T><<<dim3(blocksFor(n), n < 65535 ? n : 65535), kThreads, 0, stream>>>(M, n);
   return cudaGetLastError();
+}
+
+template <typename T>
+cudaError_t launchFillHoles(T* C, std::size_t ld, int n_new, const int* old_slot_of_new, const int* holes, int h,
+                            cudaStream_t stream) {
+  constexpr int kMaxHoles = 65535 / 3;  // gridDim.y limit
+  for (int t0 = 0; t0 < h && n_new > 0; t0 += kMaxHoles) {
+    const int count = h - t0 < kMaxHoles ? h - t0 : kMaxHoles;
+    const dim3 grid(blocksFor(n_new), static_cast<unsigned>(3 * count));
+    fillHolesKernel<T><<<grid, kThreads, 0, stream>>>(C, ld, n_new, old_slot_of_new, holes + t0);
+    const cudaError_t e = cudaGetLastError();
+    if (e != cudaSuccess) return e;
+  }
+  return cudaSuccess;
 }
 
 #define HAPI_INSTANTIATE(T)                                                                                          \
@@ -408,8 +343,8 @@ cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int
   template cudaError_t launchMarginals<T>(const T*, std::size_t, const int*, int, double*, cudaStream_t);             \
   template cudaError_t launchLandmarkBlocks<T>(const T*, std::size_t, int, double*, cudaStream_t);                    \
   template cudaError_t launchAddLandmarks<T>(T*, std::size_t, int, const T*, const T*, int, cudaStream_t);            \
-  template cudaError_t launchCompact<T>(T*, std::size_t, const int*, const int*, int, int, int*, unsigned*,          \
-                                        CompactVariant, cudaStream_t);
+  template cudaError_t launchZeroStrictUpper<T>(T*, int, cudaStream_t);                                            \
+  template cudaError_t launchFillHoles<T>(T*, std::size_t, int, const int*, const int*, int, cudaStream_t);
 HAPI_INSTANTIATE(double)
 HAPI_INSTANTIATE(float)
 #undef HAPI_INSTANTIATE

@@ -1,10 +1,12 @@
 // CUDA implementation of CovarianceBackend (DESIGN.md "Filter"): C lives on the
-// device for the whole run (capacity-sized, column-major, ld = 12 + 3 capacity,
-// lower triangle authoritative); only dx (length n), the 3m-vector y and small
-// blocks cross the bus inside the filter loop. The O(n^2 m) step is cuBLAS
-// (SYRK or panelled GEMM), the factorisation cuSOLVER, the O(n m) gathers and
-// all bookkeeping our own kernels (kernels.cuh).
+// device for the whole run (capacity-sized, column-major, ld = 12 + 3 capacity
+// rounded up to 32 elements, lower triangle authoritative); only dx (length
+// n), the 3m-vector y and small blocks cross the bus inside the filter loop.
+// The O(n^2 m) step is cuBLAS (SYRK, panelled or recursive GEMMs), the
+// factorisations cuSOLVER, the O(n m) gathers and all bookkeeping our own
+// kernels (kernels.cuh).
 #include "hapi_eskf/cuda/cuda_backend.hpp"
+#include "hapi_eskf/removal_plan.hpp"
 
 #include "blas_traits.hpp"
 #include "cuda_check.hpp"
@@ -32,33 +34,23 @@ Mat12Param toParam(const Mat12& M) {
   return p;
 }
 
-// HAPI_ESKF_CUDA_RANK_UPDATE=syrk|gemm selects the C <- C - A A^T kernel
-// (default: panelled GEMM; on the H100 faster than DSYRK for K = 4000..16000,
-// 2 % slower at K = 32000, docs/BENCHMARKS.md); the bench times both.
-RankUpdate rankUpdateFromEnv() {
-  const char* e = std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE");
-  if (e != nullptr && std::string(e) == "syrk") return RankUpdate::kSyrk;
-  return RankUpdate::kPanelGemm;
-}
-
-// HAPI_ESKF_CUDA_COMPACT=fence|aligned8|aligned4|aligned8t128 selects the
-// removal's compaction kernel (covariance_kernels.cu explains the variants).
-// Default aligned8t128: fastest on the H100 at K = 8000 (removal 1.86 ms vs
-// 1.89 aligned8, 1.95 aligned4, 2.28 fence, same run; docs/BENCHMARKS.md).
-CompactVariant compactVariantFromEnv() {
-  const char* e = std::getenv("HAPI_ESKF_CUDA_COMPACT");
+// HAPI_ESKF_CUDA_RANK_UPDATE=syrk|gemm|recursive fixes the schedule of
+// C <- C - A A^T (blas_traits.hpp), HAPI_ESKF_CUDA_SOLVE=trsm|inverse how
+// A = P L^-T is formed; unset (the default), both are chosen by size
+// (autoRankUpdate, autoSolveByInverse: the fastest on the H100,
+// docs/BENCHMARKS.md). The GPU tests run every pair against the CPU.
+enum class Solve { kAuto, kTrsm, kInverse };
+Solve solveFromEnv() {
+  const char* e = std::getenv("HAPI_ESKF_CUDA_SOLVE");
   const std::string v = e != nullptr ? e : "";
-  if (v == "fence") return CompactVariant::kFence;
-  if (v == "aligned8") return CompactVariant::kAligned8;
-  if (v == "aligned4") return CompactVariant::kAligned4;
-  return CompactVariant::kAligned8T128;
+  return v == "trsm" ? Solve::kTrsm : (v == "inverse" ? Solve::kInverse : Solve::kAuto);
 }
 
 template <typename T>
 class CudaBackend final : public CovarianceBackend {
  public:
   CudaBackend(int capacity, int descriptor_length, int device)
-      : cap_(capacity), D_(descriptor_length), device_(device), ld_(static_cast<std::size_t>(stateDim(capacity))) {}
+      : cap_(capacity), D_(descriptor_length), device_(device), ld_(paddedLd(stateDim(capacity))) {}
 
   ~CudaBackend() override {
     cudaSetDevice(device_);
@@ -88,8 +80,8 @@ class CudaBackend final : public CovarianceBackend {
     if (failed(desc_tmp_.ensure(pool), "cudaMalloc(descriptors)", why)) return false;
     if (failed(dx_.ensure(ld_), "cudaMalloc(dx)", why)) return false;
     if (failed(cudaStreamSynchronize(stream_), "cudaStreamSynchronize", why)) return false;
-    rank_ = rankUpdateFromEnv();
-    compact_ = compactVariantFromEnv();
+    rank_fixed_ = parseRankUpdate(std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE"), &rank_);
+    solve_ = solveFromEnv();
     if (stageTimesEnabled()) {
       for (cudaEvent_t& e : ev_)
         if (failed(cudaEventCreate(&e), "cudaEventCreate", why)) return false;
@@ -104,7 +96,7 @@ class CudaBackend final : public CovarianceBackend {
   std::size_t memoryBytes() const override {
     return C_.bytes() + work_.bytes() + S_.bytes() + y_.bytes() + dx_.bytes() + potrf_work_.bytes() + H_.bytes() +
            R_.bytes() + slots_.bytes() + ints_.bytes() + desc_.bytes() + desc_tmp_.bytes() + queries_.bytes() +
-           small_.bytes();
+           small_.bytes() + work2_.bytes() + y2_.bytes() + trtri_dev_.bytes();
   }
 
   Status reset(const Mat12& C_pose) override {
@@ -224,14 +216,33 @@ class CudaBackend final : public CovarianceBackend {
       if (!(min_l > 1e-12 * std::sqrt(max_s))) return Status::kNotPositiveDefinite;
     }
 
-    // 3. A = P L^-T (in place), y = L^-1 z, dx = A y.
+    // 3. A = P L^-T, y = L^-1 z, dx = A y. Solve::kTrsm: in place by TRSM.
+    // Solve::kInverse: L^-1 by trtri (3m x 3m, small), then A = P L^-T as one
+    // GEMM into a second workspace: the same product at GEMM rate instead of
+    // TRSM's (bench, docs/BENCHMARKS.md). L's diagonal was checked above, so
+    // trtri cannot meet a zero pivot.
+    T* A = P;
+    T* y = y_.get();
     HAPI_CUDA_TRY(mark(kEvTrsmStart));
-    HAPI_CUDA_TRY(Blas<T>::trsmRightLowerT(blas_, nn, dim, S_.get(), dim, P, ldP));
-    HAPI_CUDA_TRY(mark(kEvTrsmDone));
-    HAPI_CUDA_TRY(Blas<T>::trsvLower(blas_, dim, S_.get(), dim, y_.get()));
-    HAPI_CUDA_TRY(Blas<T>::gemv(blas_, nn, dim, P, ldP, y_.get(), dx_.get()));
+    const bool by_inverse = solve_ == Solve::kInverse || (solve_ == Solve::kAuto && autoSolveByInverse(nn));
+    if (by_inverse) {
+      HAPI_CUDA_TRY(ensureInverseWork(dim));
+      HAPI_CUDA_TRY(trtri<T>(solver_, dim, S_.get(), trtri_dev_.get(), trtri_dev_.bytes(), trtri_host_.data(),
+                             trtri_host_.size(), ints_.get()));
+      HAPI_CUDA_TRY(launchZeroStrictUpper<T>(S_.get(), dim, stream_));
+      A = work2_.get();
+      HAPI_CUDA_TRY(Blas<T>::gemmNT(blas_, nn, dim, dim, T(1), P, ldP, S_.get(), dim, T(0), A, ldP));
+      HAPI_CUDA_TRY(mark(kEvTrsmDone));
+      y = y2_.get();
+      HAPI_CUDA_TRY(Blas<T>::gemv(blas_, dim, dim, S_.get(), dim, y_.get(), y));
+    } else {
+      HAPI_CUDA_TRY(Blas<T>::trsmRightLowerT(blas_, nn, dim, S_.get(), dim, P, ldP));
+      HAPI_CUDA_TRY(mark(kEvTrsmDone));
+      HAPI_CUDA_TRY(Blas<T>::trsvLower(blas_, dim, S_.get(), dim, y));
+    }
+    HAPI_CUDA_TRY(Blas<T>::gemv(blas_, nn, dim, A, ldP, y, dx_.get()));
     std::vector<T> hy(dim), hdx(nn);
-    HAPI_CUDA_TRY(cudaMemcpyAsync(hy.data(), y_.get(), dim * sizeof(T), cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(cudaMemcpyAsync(hy.data(), y, dim * sizeof(T), cudaMemcpyDeviceToHost, stream_));
     HAPI_CUDA_TRY(cudaMemcpyAsync(hdx.data(), dx_.get(), nn * sizeof(T), cudaMemcpyDeviceToHost, stream_));
     HAPI_CUDA_TRY(mark(kEvSolved));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
@@ -244,7 +255,8 @@ class CudaBackend final : public CovarianceBackend {
 
     // 4. C <- C - A A^T (lower triangle only).
     HAPI_CUDA_TRY(mark(kEvRankStart));
-    HAPI_CUDA_TRY(rankUpdate<T>(blas_, rank_, nn, dim, P, ldP, C_.get(), ld_, defaultPanel(nn)));
+    const RankUpdate how = rank_fixed_ ? rank_ : autoRankUpdate(nn);
+    HAPI_CUDA_TRY(rankUpdate<T>(blas_, how, nn, dim, A, ldP, C_.get(), ld_, defaultPanel(nn)));
     HAPI_CUDA_TRY(mark(kEvRankDone));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     HAPI_CUDA_TRY(accumulateStageTimes());
@@ -284,48 +296,29 @@ class CudaBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  // Single in-place compaction pass (DESIGN.md "Removal", launchCompact in
-  // kernels.cuh): every kept element of the lower triangle is read once and
-  // written once, no workspace, no per-landmark shifting.
+  // Fill holes from the tail (removal_plan.hpp, launchFillHoles in
+  // kernels.cuh): O(n) per moved landmark, no workspace; the descriptors
+  // follow the same plan.
   Status removeLandmarks(const std::vector<int>& slots) override {
     if (slots.empty()) return Status::kOk;
     const Status s = checkDistinctSlots(slots, K_);
     if (s != Status::kOk) return s;
     HAPI_CUDA_TRY(cudaSetDevice(device_));
-    std::vector<char> removed(K_, 0);
-    for (int sl : slots) removed[sl] = 1;
     const int K_new = K_ - static_cast<int>(slots.size());
-    const int n_new = stateDim(K_new);
-    // ints_ layout: old_of_new | reader | progress | ticket | keep.
-    std::vector<int> h(3 * static_cast<std::size_t>(n_new) + 1 + K_new, -1);
-    int* old_of_new = h.data();
-    int* reader = h.data() + n_new;
-    int* keep = h.data() + 3 * static_cast<std::size_t>(n_new) + 1;
-    int idx = 0, kept = 0;
-    for (int i = 0; i < kPoseDim; ++i) old_of_new[idx++] = i;
-    for (int k = 0; k < K_; ++k) {
-      if (removed[k]) continue;
-      keep[kept++] = k;
-      for (int r = 0; r < 3; ++r) old_of_new[idx++] = landmarkRow(k) + r;
+    const std::vector<SlotMove> moves = tailFillMoves(K_, slots);
+    if (!moves.empty()) {
+      // ints_ layout: old slot of every new slot (K_new) | holes (h).
+      std::vector<int> h = oldSlotOfNew(K_, slots);
+      for (const SlotMove& m : moves) h.push_back(m.to);
+      HAPI_CUDA_TRY(ints_.ensure(h.size()));
+      int* d = ints_.get();
+      HAPI_CUDA_TRY(cudaMemcpyAsync(d, h.data(), h.size() * sizeof(int), cudaMemcpyHostToDevice, stream_));
+      HAPI_CUDA_TRY(launchFillHoles<T>(C_.get(), ld_, stateDim(K_new), d, d + K_new, static_cast<int>(moves.size()),
+                                       stream_));
+      HAPI_CUDA_TRY(launchGatherDescriptors(desc_.get(), d, K_new, D_, desc_tmp_.get(), stream_));
+      HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+      desc_.swap(desc_tmp_);
     }
-    for (int j = 0; j < n_new; ++j)
-      if (old_of_new[j] < n_new) reader[old_of_new[j]] = j;
-    const int r0 = landmarkRow(*std::min_element(slots.begin(), slots.end()));
-    HAPI_CUDA_TRY(ints_.ensure(h.size()));
-    int* d = ints_.get();
-    HAPI_CUDA_TRY(cudaMemcpyAsync(d, h.data(), h.size() * sizeof(int), cudaMemcpyHostToDevice, stream_));
-    HAPI_CUDA_TRY(mark(kEvStart));
-    HAPI_CUDA_TRY(launchCompact<T>(C_.get(), ld_, d, d + n_new, n_new, r0, d + 2 * n_new,
-                                   reinterpret_cast<unsigned*>(d + 3 * n_new), compact_, stream_));
-    HAPI_CUDA_TRY(mark(kEvUploaded));
-    HAPI_CUDA_TRY(launchGatherDescriptors(desc_.get(), d + 3 * n_new + 1, K_new, D_, desc_tmp_.get(), stream_));
-    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
-    if (ev_[0] != nullptr) {
-      float ms = 0;
-      HAPI_CUDA_TRY(cudaEventElapsedTime(&ms, ev_[kEvStart], ev_[kEvUploaded]));
-      recordCompactionMs(ms);
-    }
-    desc_.swap(desc_tmp_);
     K_ = K_new;
     return Status::kOk;
   }
@@ -449,17 +442,35 @@ class CudaBackend final : public CovarianceBackend {
     return e;
   }
 
+  // Second workspace and trtri buffers of Solve::kInverse, grown on demand.
+  cudaError_t ensureInverseWork(int dim) {
+    cudaError_t e = work2_.ensure(ld_ * static_cast<std::size_t>(std::max(dim, work_cols_)));
+    if (e == cudaSuccess) e = y2_.ensure(static_cast<std::size_t>(dim));
+    if (e != cudaSuccess) return e;
+    std::size_t dev = 0, host = 0;
+    if (trtriBufferSize<T>(solver_, dim, S_.get(), &dev, &host) != CUSOLVER_STATUS_SUCCESS)
+      return cudaErrorInvalidValue;
+    e = trtri_dev_.ensure(std::max<std::size_t>(dev, 1));
+    if (host > trtri_host_.size()) trtri_host_.resize(host);
+    return e;
+  }
+
   const int cap_, D_, device_;
   const std::size_t ld_;
   int K_ = 0;
   int work_cols_ = 0;
-  RankUpdate rank_ = RankUpdate::kPanelGemm;
-  CompactVariant compact_ = CompactVariant::kAligned8T128;
+  RankUpdate rank_ = RankUpdate::kRecursive;
+  bool rank_fixed_ = false;  // else autoRankUpdate(n)
+  Solve solve_ = Solve::kAuto;
   cudaEvent_t ev_[kEvCount] = {};
   cudaStream_t stream_ = nullptr;
   cublasHandle_t blas_ = nullptr;
   cusolverDnHandle_t solver_ = nullptr;
   DeviceBuffer<T> C_, work_, S_, y_, dx_, potrf_work_, H_, R_;
+  // Solve::kInverse: A = P L^-T lands in work2_ (n x 3m), y = L^-1 z in y2_.
+  DeviceBuffer<T> work2_, y2_;
+  DeviceBuffer<uint8_t> trtri_dev_;
+  std::vector<uint8_t> trtri_host_;
   DeviceBuffer<uint8_t> desc_, desc_tmp_;
   // Scratch of const read-back / association calls.
   mutable DeviceBuffer<int> slots_, ints_;

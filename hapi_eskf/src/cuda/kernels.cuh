@@ -1,8 +1,9 @@
 // Launch wrappers of the CUDA backend's own kernels (gather, small products,
 // bookkeeping, association). Plain pointers only: no Eigen in device code.
 // Storage (covariance_backend.hpp contract): C is column-major with leading
-// dimension ld = 12 + 3 * capacity; only the LOWER triangle is read or written
-// (element (i, j) with i < j is read as C[j + i * ld]).
+// dimension ld >= 12 + 3 * capacity (blas_traits.hpp paddedLd); only the LOWER
+// triangle is read or written (element (i, j) with i < j is read as
+// C[j + i * ld]).
 // Every wrapper enqueues on `stream` and returns the launch status; the host
 // class synchronises and checks at the end of each backend call.
 #pragma once
@@ -38,6 +39,11 @@ cudaError_t launchInnovationCov(const T* P, std::size_t ldP, const int* slots, c
 template <typename T>
 cudaError_t launchCountNonFinite(const T* x, std::size_t count, int* flag, cudaStream_t stream);
 
+// M(i, j) = 0 for i < j (n x n, leading dim n): the inverse factor from
+// trtri keeps S's upper triangle, which a plain GEMM with it must not see.
+template <typename T>
+cudaError_t launchZeroStrictUpper(T* M, int n, cudaStream_t stream);
+
 // --- predict (DESIGN.md "Predict") --------------------------------------------
 // C_pp <- F C_pp F^T + Q, C_mp <- C_mp F^T (rows 12..n-1), lower triangle.
 template <typename T>
@@ -60,19 +66,15 @@ template <typename T>
 cudaError_t launchAddLandmarks(T* C, std::size_t ld, int n_old, const T* G, const T* Nz, int m,
                                cudaStream_t stream);
 
-// The single in-place compaction pass of a removal: for target columns j and
-// target rows i >= max(j, r0) of the lower triangle, C(i, j) = C(old[i], old[j])
-// (old_of_new increasing, length n_new). reader[c] = the target column j' with
-// old[j'] == c, or -1 (c < n_new). progress (n_new ints) and ticket are
-// scratch, zeroed here. See covariance_kernels.cu for why it is race-free.
-// Variants (HAPI_ESKF_CUDA_COMPACT=fence|aligned8|aligned4|aligned8t128,
-// default aligned8t128; the bench times each, docs/BENCHMARKS.md): all move
-// the same elements the same way (t128: blocks of 128 threads, more columns
-// in flight).
-enum class CompactVariant { kFence, kAligned8, kAligned4, kAligned8T128 };
+// Removal by filling holes from the tail (removal_plan.hpp): for each of the
+// h moved landmarks (new slot holes[t], old slot old_slot_of_new[holes[t]])
+// and every j < n_new, C(D, j) = C_old(S, old(j)) with D / S its new / old
+// rows and old(j) the old index of new row j (old_slot_of_new has K_new
+// entries). Reads touch rows >= n_new only, writes rows and columns < n_new
+// only, so the pass is race-free in place. O(3 h n_new) elements.
 template <typename T>
-cudaError_t launchCompact(T* C, std::size_t ld, const int* old_of_new, const int* reader, int n_new, int r0,
-                          int* progress, unsigned* ticket, CompactVariant variant, cudaStream_t stream);
+cudaError_t launchFillHoles(T* C, std::size_t ld, int n_new, const int* old_slot_of_new, const int* holes, int h,
+                            cudaStream_t stream);
 
 // Descriptor rows: dst[k] = src[keep[k]] for k < count (D bytes each).
 cudaError_t launchGatherDescriptors(const uint8_t* src, const int* keep, int count, int D, uint8_t* dst,

@@ -10,7 +10,6 @@ namespace cuda {
 namespace {
 std::mutex g_mu;
 std::vector<UpdateStageTimes> g_times;
-std::vector<double> g_compaction;
 }  // namespace
 
 bool stageTimesEnabled() {
@@ -27,18 +26,6 @@ std::vector<UpdateStageTimes> takeUpdateStageTimes() {
   std::lock_guard<std::mutex> lock(g_mu);
   std::vector<UpdateStageTimes> out;
   out.swap(g_times);
-  return out;
-}
-
-void recordCompactionMs(double ms) {
-  std::lock_guard<std::mutex> lock(g_mu);
-  g_compaction.push_back(ms);
-}
-
-std::vector<double> takeCompactionMs() {
-  std::lock_guard<std::mutex> lock(g_mu);
-  std::vector<double> out;
-  out.swap(g_compaction);
   return out;
 }
 

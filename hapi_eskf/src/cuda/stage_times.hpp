@@ -27,9 +27,6 @@ bool stageTimesEnabled();
 void recordUpdateStageTimes(const UpdateStageTimes& t);
 // Every update recorded since the last call, then cleared.
 std::vector<UpdateStageTimes> takeUpdateStageTimes();
-// Device time of the removal's compaction kernel alone (same switch), ms.
-void recordCompactionMs(double ms);
-std::vector<double> takeCompactionMs();
 
 }  // namespace cuda
 }  // namespace hapi_eskf

@@ -4,6 +4,8 @@
 // stability check. Every case skips without a CUDA device.
 #include "backend_pair.hpp"
 
+#include "hapi_eskf/removal_plan.hpp"
+
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
@@ -78,7 +80,7 @@ TEST(CudaBackend, EachMethodMatchesCpu) {
   ASSERT_EQ(p.cpu->removeLandmarks({0, 7, 8, 25}), Status::kOk);
   ASSERT_EQ(p.gpu->removeLandmarks({0, 7, 8, 25}), Status::kOk);
   p.expectStatesEqual(kTol, "remove scattered");
-  // Removing only the tail moves nothing.
+  // Removing only the tail slot moves nothing.
   ASSERT_EQ(p.cpu->removeLandmarks({21}), Status::kOk);
   ASSERT_EQ(p.gpu->removeLandmarks({21}), Status::kOk);
   p.expectStatesEqual(kTol, "remove tail");
@@ -153,13 +155,19 @@ TEST(CudaBackend, EmptyPoolAndNoQueriesLikeCpu) {
 }
 
 // The parity requirement: 100 iterations of predict / match / update /
-// remove / add with every state compared after every iteration. Capacity 170
-// makes the removal pass run over several workspace strips.
-void runHundredIterations(const char* rank_update) {
+// remove / add with every state compared after every iteration, for each
+// schedule of the rank update and each way of forming A = P L^-T
+// (HAPI_ESKF_CUDA_RANK_UPDATE, HAPI_ESKF_CUDA_SOLVE). The pool stays below
+// the recursive schedule's 512-row leaf here; LargePoolRemovalAndGatherMatchCpu
+// runs its recursion several levels deep.
+// An empty name leaves the choice to the backend.
+void runHundredIterations(const char* rank_update, const char* solve) {
   setenv("HAPI_ESKF_CUDA_RANK_UPDATE", rank_update, 1);
+  setenv("HAPI_ESKF_CUDA_SOLVE", solve, 1);
   Rng r(3);
   BackendPair p(170, 32);
   unsetenv("HAPI_ESKF_CUDA_RANK_UPDATE");
+  unsetenv("HAPI_ESKF_CUDA_SOLVE");
   ASSERT_TRUE(p.gpu);
   const Mat12 C0 = r.spd12(0.01);
   ASSERT_EQ(p.cpu->reset(C0), Status::kOk);
@@ -210,25 +218,45 @@ void runHundredIterations(const char* rank_update) {
   EXPECT_GT(lmin, -1e-10 * C.cwiseAbs().maxCoeff());
 }
 
-TEST(CudaBackend, HundredIterationsMatchCpuPanelGemm) {
+TEST(CudaBackend, HundredIterationsMatchCpuAutomaticChoice) {  // the default: by size
   HAPI_REQUIRE_CUDA_DEVICE();
-  runHundredIterations("gemm");
+  runHundredIterations("", "");
 }
 
-TEST(CudaBackend, HundredIterationsMatchCpuSyrk) {
+TEST(CudaBackend, HundredIterationsMatchCpuRecursiveInverse) {
   HAPI_REQUIRE_CUDA_DEVICE();
-  runHundredIterations("syrk");
+  runHundredIterations("recursive", "inverse");
 }
 
-// A pool large enough that the removal pass walks every column in several
-// row chunks (n = 4212 > 1024 rows per chunk) with column shifts of hundreds,
-// and the update's gather runs over many 32 x 32 tiles (m > 32). Each removal
-// is also checked bit-exactly against the GPU's own state before it (the pass
-// is a pure copy), independently of the CPU reference.
+TEST(CudaBackend, HundredIterationsMatchCpuPanelGemmInverse) {
+  HAPI_REQUIRE_CUDA_DEVICE();
+  runHundredIterations("gemm", "inverse");
+}
+
+TEST(CudaBackend, HundredIterationsMatchCpuSyrkTrsm) {
+  HAPI_REQUIRE_CUDA_DEVICE();
+  runHundredIterations("syrk", "trsm");
+}
+
+TEST(CudaBackend, HundredIterationsMatchCpuRecursiveTrsm) {
+  HAPI_REQUIRE_CUDA_DEVICE();
+  runHundredIterations("recursive", "trsm");
+}
+
+// A pool large enough that the removal moves hundreds of landmarks across
+// many thread blocks (n = 4212), the update's gather runs over many 32 x 32
+// tiles (m > 32) and the recursive rank update (selected here: by size the
+// backend would take SYRK) goes several levels deep, with A from trtri + GEMM.
+// Each removal is also checked bit-exactly against the GPU's own state before
+// it (the refill is a pure copy), independently of the CPU reference.
 TEST(CudaBackend, LargePoolRemovalAndGatherMatchCpu) {
   HAPI_REQUIRE_CUDA_DEVICE();
   Rng r(6);
+  setenv("HAPI_ESKF_CUDA_RANK_UPDATE", "recursive", 1);
+  setenv("HAPI_ESKF_CUDA_SOLVE", "inverse", 1);
   BackendPair p(1500, 32);
+  unsetenv("HAPI_ESKF_CUDA_RANK_UPDATE");
+  unsetenv("HAPI_ESKF_CUDA_SOLVE");
   ASSERT_TRUE(p.gpu);
   const Mat12 C0 = r.spd12(0.01);
   ASSERT_EQ(p.cpu->reset(C0), Status::kOk);
@@ -239,19 +267,16 @@ TEST(CudaBackend, LargePoolRemovalAndGatherMatchCpu) {
   auto removeBoth = [&](std::vector<int> rem, const char* what) {
     const Eigen::MatrixXd before = p.gpu->denseCovariance();
     const int K = p.gpu->numLandmarks();
-    std::vector<char> gone(K, 0);
-    for (int s : rem) gone[s] = 1;
     std::vector<int> idx;
     for (int i = 0; i < kPoseDim; ++i) idx.push_back(i);
-    for (int k = 0; k < K; ++k)
-      if (!gone[k])
-        for (int c = 0; c < 3; ++c) idx.push_back(landmarkRow(k) + c);
+    for (int k : oldSlotOfNew(K, rem))
+      for (int c = 0; c < 3; ++c) idx.push_back(landmarkRow(k) + c);
     Eigen::MatrixXd expect(idx.size(), idx.size());
     for (std::size_t c = 0; c < idx.size(); ++c)
       for (std::size_t i = 0; i < idx.size(); ++i) expect(i, c) = before(idx[i], idx[c]);
     ASSERT_EQ(p.cpu->removeLandmarks(rem), Status::kOk) << what;
     ASSERT_EQ(p.gpu->removeLandmarks(rem), Status::kOk) << what;
-    EXPECT_TRUE(p.gpu->denseCovariance() == expect) << what << ": the compaction is not an exact copy";
+    EXPECT_TRUE(p.gpu->denseCovariance() == expect) << what << ": the refill is not an exact copy";
     p.expectStatesEqual(kTol, what);
   };
 
@@ -270,8 +295,8 @@ TEST(CudaBackend, LargePoolRemovalAndGatherMatchCpu) {
     std::sort(rem.begin(), rem.end());
     rem.erase(std::unique(rem.begin(), rem.end()), rem.end());
     removeBoth(rem, "scattered");
-    removeBoth({p.cpu->numLandmarks() / 2}, "one middle slot");  // r0 in the middle, shift 3
-    removeBoth({0, 1, 2, 3, 4, 5, 6, 7}, "leading run");         // everything moves by 24
+    removeBoth({p.cpu->numLandmarks() / 2}, "one middle slot");  // the last landmark moves there
+    removeBoth({0, 1, 2, 3, 4, 5, 6, 7}, "leading run");         // the last 8 move to the front
     p.addRandom(r, 60);
   }
 }

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# One device call for the ES-EKF core (issue 3): build, every hapi_eskf test
+# (GPU tests included), the benchmark table (CPU and GPU in one run) and the
+# in-filter comparison of the CUDA variants. Logs go to $OUT (or ./device-out).
+#   scripts/device/eskf_gpu_run.sh            (carry .device, see prepare.sh)
+set -uo pipefail
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+OUT="${OUT:-$REPO/device-out}"
+mkdir -p "$OUT"
+B="$REPO/build-device"
+nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm,power.limit --format=csv | tee "$OUT/device.txt"
+git -C "$REPO" log -1 --format='commit %H' 2>/dev/null | tee -a "$OUT/device.txt"
+git -C "$REPO" status --short 2>/dev/null | head -20 | tee -a "$OUT/device.txt"
+bash "$REPO/scripts/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
+echo "build ok"
+(cd "$B" && ctest --output-on-failure 2>&1) >"$OUT/ctest.log"; tail -15 "$OUT/ctest.log"
+BENCH="$B/hapi_eskf/bench/hapi_eskf_bench"
+export HAPI_ESKF_CUDA_STAGE_TIMES=1
+# The table: defaults, every K, CPU rows where the Eigen reference is affordable.
+"$BENCH" --k 1000,2000,4000,8000,16000,32000 --iters 50 --cpu-iters 5 --cpu-max-k 2000 --backend both \
+  >"$OUT/bench_table.log" 2>&1
+# In-filter variants at the target sizes (same run, same card state).
+for v in "syrk trsm" "gemm trsm" "gemm inverse" "recursive trsm" "recursive inverse"; do
+  set -- $v
+  echo "=== rank update $1, solve $2" >>"$OUT/bench_variants.log"
+  HAPI_ESKF_CUDA_RANK_UPDATE=$1 HAPI_ESKF_CUDA_SOLVE=$2 "$BENCH" --k 4000,8000,16000,32000 --iters 50 \
+    --backend cuda --rank-reps 1 >>"$OUT/bench_variants.log" 2>&1
+done
+"$BENCH" --k 8000,32000 --iters 50 --backend cuda --precision fp32 >"$OUT/bench_fp32.log" 2>&1
+grep -A 10 "^| backend | K | iters" "$OUT/bench_table.log"
+grep -A 9 "^update stages" "$OUT/bench_table.log"
+grep -A 8 "alone" "$OUT/bench_table.log"
+grep "^===\|cuda-fp64 | [0-9]* | 50" "$OUT/bench_variants.log"
