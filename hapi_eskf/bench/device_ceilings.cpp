@@ -209,15 +209,22 @@ bool measureRankUpdateT(int n, int k, int reps, RankUpdateTiming* out, std::stri
     return median(t);
   };
   // Interleaved schedules, so the card is equally hot for each.
-  std::vector<double> ts, tg, tr;
+  std::vector<double> ts, tg, tr, tu, tz;
   for (int rep = 0; rep < std::max(reps, 1); ++rep) {
     ts.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kSyrk, n, k, A, ild, C, ld, panel); }, 1));
     tg.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kPanelGemm, n, k, A, ild, C, ld, panel); }, 1));
     tr.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kRecursive, n, k, A, ild, C, ld, panel); }, 1));
+    tu.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kRecursive, n, k, A, n, C, n, panel); }, 1));
   }
+  // C = 0 last (it destroys the random C; A stays random).
+  cudaMemset(C, 0, es * ld * n);
+  for (int rep = 0; rep < std::max(reps, 1); ++rep)
+    tz.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kRecursive, n, k, A, ild, C, ld, panel); }, 1));
   out->syrk_ms = median(ts);
   out->gemm_ms = median(tg);
   out->recursive_ms = median(tr);
+  out->recursive_unpadded_ms = median(tu);
+  out->recursive_zero_c_ms = median(tz);
   out->trsm_ms = timeIt([&] { cuda::Blas<T>::trsmRightLowerT(h, n, k, L, k, A, ild); }, 3);
   std::size_t dev_bytes = 0, host_bytes = 0;
   cuda::trtriBufferSize<T>(sol, k, L, &dev_bytes, &host_bytes);

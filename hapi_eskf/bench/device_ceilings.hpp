@@ -22,6 +22,10 @@ struct RankUpdateTiming {
   // C <- C - A A^T, random A, median of the repetitions, per schedule
   // (src/cuda/blas_traits.hpp RankUpdate): SYRK, panelled GEMM, recursive.
   double syrk_ms = 0, gemm_ms = 0, recursive_ms = 0;
+  // Controls of the recursive schedule, interleaved with the above: leading
+  // dimension n instead of the padded one, and an all-zero C (power: the
+  // rate depends on the bits moved).
+  double recursive_unpadded_ms = 0, recursive_zero_c_ms = 0;
   // Update step 3 with the same shape, A <- P L^-T: TRSM in place, and the
   // trtri + GEMM of Solve::kInverse (src/cuda/cuda_backend.cpp).
   double trsm_ms = 0, inverse_ms = 0;

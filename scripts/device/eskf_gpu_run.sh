@@ -16,18 +16,29 @@ echo "build ok"
 (cd "$B" && ctest --output-on-failure 2>&1) >"$OUT/ctest.log"; tail -15 "$OUT/ctest.log"
 BENCH="$B/hapi_eskf/bench/hapi_eskf_bench"
 export HAPI_ESKF_CUDA_STAGE_TIMES=1
-# The table: defaults, every K, CPU rows where the Eigen reference is affordable.
+smi() {  # clocks, temperature, power and throttle reasons between the runs
+  nvidia-smi --query-gpu=clocks.sm,clocks.mem,temperature.gpu,power.draw,clocks_event_reasons.active \
+    --format=csv,noheader | sed "s|^|[$1] |" | tee -a "$OUT/smi.log"
+}
+smi "before the table"
+# The table: defaults (by-size choice), every K, CPU rows where the Eigen
+# reference is affordable, the isolated rank update with its controls.
 "$BENCH" --k 1000,2000,4000,8000,16000,32000 --iters 50 --cpu-iters 5 --cpu-max-k 2000 --backend both \
   >"$OUT/bench_table.log" 2>&1
-# In-filter variants at the target sizes (same run, same card state).
-for v in "syrk trsm" "gemm trsm" "gemm inverse" "recursive trsm" "recursive inverse"; do
-  set -- $v
-  echo "=== rank update $1, solve $2" >>"$OUT/bench_variants.log"
-  HAPI_ESKF_CUDA_RANK_UPDATE=$1 HAPI_ESKF_CUDA_SOLVE=$2 "$BENCH" --k 4000,8000,16000,32000 --iters 50 \
-    --backend cuda --rank-reps 1 >>"$OUT/bench_variants.log" 2>&1
+smi "after the table"
+# In-filter A/B at the target sizes: the defaults against the previous
+# defaults (panelled GEMM + TRSM), alternated so that drift of the card's
+# clock hits both alike.
+for round in 1 2; do
+  for v in "auto auto" "gemm trsm"; do
+    set -- $v
+    echo "=== round $round: rank update $1, solve $2" >>"$OUT/bench_ab.log"
+    HAPI_ESKF_CUDA_RANK_UPDATE=$1 HAPI_ESKF_CUDA_SOLVE=$2 "$BENCH" --k 8000,32000 --iters 30 --backend cuda \
+      --rank-reps 1 >>"$OUT/bench_ab.log" 2>&1
+    smi "after round $round $1/$2"
+  done
 done
-"$BENCH" --k 8000,32000 --iters 50 --backend cuda --precision fp32 >"$OUT/bench_fp32.log" 2>&1
 grep -A 10 "^| backend | K | iters" "$OUT/bench_table.log"
 grep -A 9 "^update stages" "$OUT/bench_table.log"
 grep -A 8 "alone" "$OUT/bench_table.log"
-grep "^===\|cuda-fp64 | [0-9]* | 50" "$OUT/bench_variants.log"
+grep "^===\|cuda-fp64 | [0-9]* | 30" "$OUT/bench_ab.log"

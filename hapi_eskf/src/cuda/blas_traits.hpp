@@ -144,13 +144,14 @@ inline int defaultPanel(int n) {
   return p < 512 ? 512 : (p > 4096 ? 4096 : p);
 }
 
-// Schedule and solve chosen by size when the environment names none. From
-// the H100 runs in docs/BENCHMARKS.md (in-filter and isolated, same run):
-// one SYRK is fastest while launches dominate (K <= 2000), the panelled GEMM
-// around K = 4000, the recursive schedule from K = 8000 up (K = 32000: 130 ms
-// in the filter vs 145-148 for the other two); TRSM is faster than
-// trtri + GEMM below n ~ 20000 (K = 4000: 0.59 vs 0.79 ms), slower above
-// (K = 32000: 3.8 vs 2.1 ms).
+// Schedule and solve chosen by size when the environment names none, from
+// the H100 runs of docs/BENCHMARKS.md: one SYRK is fastest while launches
+// dominate (K <= 2000), the panelled GEMM around K = 4000, the recursive
+// schedule from K = 8000 up (isolated at K = 32000: 111.7 ms vs 117.5 SYRK,
+// 121.4 panelled); TRSM beats trtri + GEMM below n ~ 20000 (K = 4000: 0.56 vs
+// 0.78 ms) and loses above (K = 32000: 3.9 vs 2.3 ms). In the filter at
+// K = 32000 this choice takes 131.0 ms per iteration against 142.2 for the
+// previous fixed panelled GEMM + TRSM (alternated A/B, same call).
 inline RankUpdate autoRankUpdate(int n) {
   return n < 8192 ? RankUpdate::kSyrk : (n < 16384 ? RankUpdate::kPanelGemm : RankUpdate::kRecursive);
 }
