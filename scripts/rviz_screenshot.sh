@@ -46,14 +46,37 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# -displayfd: Xvfb picks a free display number and writes it to fd 3.
-exec 3>"$OUT/display"
-Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp >"$OUT/xvfb.log" 2>&1 &
-XVFB_PID=$!
-exec 3>&-
-for _ in $(seq 100); do [ -s "$OUT/display" ] && break; sleep 0.1; done
-[ -s "$OUT/display" ] || { echo "[rviz-shot] ERROR: Xvfb did not start (see $OUT/xvfb.log)" >&2; exit 1; }
-export DISPLAY=":$(head -n1 "$OUT/display")"
+# -displayfd: Xvfb picks a free display number and writes it to fd 3. The
+# display must also answer a client before rviz starts: once, in a full test
+# run on a loaded 2-core machine, rviz could not connect to the display Xvfb
+# had just reported (cause not found; the re-run passed), so a server that
+# does not answer within 10 s is replaced (3 tries).
+startXvfb() {
+  rm -f "$OUT/display"
+  exec 3>"$OUT/display"
+  Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp >>"$OUT/xvfb.log" 2>&1 &
+  XVFB_PID=$!
+  exec 3>&-
+  for _ in $(seq 100); do [ -s "$OUT/display" ] && break; sleep 0.1; done
+  [ -s "$OUT/display" ] || return 1
+  export DISPLAY=":$(head -n1 "$OUT/display")"
+  for _ in $(seq 100); do
+    kill -0 "$XVFB_PID" 2>/dev/null || return 1
+    xwininfo -root >/dev/null 2>&1 && return 0
+    sleep 0.1
+  done
+  return 1
+}
+: >"$OUT/xvfb.log"
+xvfb_ok=0
+for attempt in 1 2 3; do
+  if startXvfb; then xvfb_ok=1; break; fi
+  echo "[rviz-shot] Xvfb attempt $attempt: no answering display, retrying" >&2
+  kill "$XVFB_PID" 2>/dev/null || true
+  wait "$XVFB_PID" 2>/dev/null || true
+  XVFB_PID=""
+done
+[ "$xvfb_ok" -eq 1 ] || { echo "[rviz-shot] ERROR: Xvfb did not start (see $OUT/xvfb.log)" >&2; exit 1; }
 export LIBGL_ALWAYS_SOFTWARE=1   # Mesa llvmpipe: no GPU needed
 echo "[rviz-shot] Xvfb on $DISPLAY; pipeline with rviz on $BAG"
 
