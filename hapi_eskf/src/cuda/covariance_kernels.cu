@@ -225,8 +225,10 @@ __global__ void zeroStrictUpperKernel(T* __restrict__ M, int n) {
 
 // One thread per (moved row, target column j): see launchFillHoles in
 // kernels.cuh for why reading and writing the same matrix is safe. Threads of
-// a warp take consecutive j, so the column part of each copy (j >= D) is
-// coalesced; the row part is a strided gather/scatter of 3 h (D - 12) elements.
+// a warp take consecutive j: the writes of the column part (j >= D) are
+// coalesced, the other writes and most reads (the source rows lie below, so
+// they are read across columns) are strided. At most 60 rows x n elements per
+// iteration: the whole removal is 0.14 ms at K = 8000 (docs/BENCHMARKS.md).
 template <typename T>
 __global__ void fillHolesKernel(T* __restrict__ C, std::size_t ld, int n_new, const int* __restrict__ old_slot,
                                 const int* __restrict__ holes) {
