@@ -37,7 +37,7 @@ for tool in Xvfb xwd xwininfo rviz; do
   command -v "$tool" >/dev/null || { echo "[rviz-shot] MISSING: $tool (Debian: xvfb x11-apps x11-utils rviz)" >&2; exit 77; }
 done
 mkdir -p "$OUT"
-rm -f "$OUT"/*.xwd "$OUT"/rviz*.png
+rm -f "$OUT"/*.xwd "$OUT"/rviz*.png "$OUT"/pipeline.first_try.out
 
 XVFB_PID=""; RUN_PID=""
 stopAll() {
