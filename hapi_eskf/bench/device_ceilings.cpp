@@ -93,7 +93,6 @@ bool fillRandom(void* dev, std::size_t count, bool fp32, unsigned seed) {
   return true;
 }
 
-
 }  // namespace
 
 bool measureCeilings(bool fp32, Ceilings* out, std::string* why) {
@@ -174,9 +173,8 @@ bool measureRankUpdateT(int n, int k, int reps, RankUpdateTiming* out, std::stri
     *why = "n x n, 2 x (n x k) and k x k buffers do not fit";
     return false;
   }
-  // Random C and A: the rate depends on the bits moved and multiplied (power
-  // cap). With an all-zero C this step ran in 114 ms at K = 32000 against
-  // 130 ms for the same schedule inside the filter (docs/BENCHMARKS.md).
+  // Random C and A, as in the filter: the rate can depend on the bits moved
+  // and multiplied (power cap); the all-zero-C control below shows how much.
   fillRandom(C, ld * n, es == 4, 4);
   fillRandom(A, ld * k, es == 4, 3);
   // Lower triangular L, diagonal in [1.5, 2.5], small off-diagonal (well

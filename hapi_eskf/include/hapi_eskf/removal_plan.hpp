@@ -26,6 +26,8 @@ std::vector<SlotMove> tailFillMoves(int K, const std::vector<int>& removed);
 
 // The same plan as a map: old slot of every new slot (length K - r).
 std::vector<int> oldSlotOfNew(int K, const std::vector<int>& removed);
+// ... from moves already computed for a pool that shrinks to K_new.
+std::vector<int> oldSlotOfNew(int K_new, const std::vector<SlotMove>& moves);
 
 // Applies the plan to a per-slot host array (size K -> K - r).
 template <typename V>

@@ -202,10 +202,13 @@ class CpuBackend final : public CovarianceBackend {
     }
     const int K_new = K_ - static_cast<int>(slots.size());
     const int n_new = stateDim(K_new);
-    const std::vector<int> old_slot = oldSlotOfNew(K_, slots);
-    auto oldIndex = [&](int j) { return j < kPoseDim ? j : landmarkRow(old_slot[(j - kPoseDim) / 3]) + (j - kPoseDim) % 3; };
+    const std::vector<SlotMove> moves = tailFillMoves(K_, slots);
+    const std::vector<int> old_slot = oldSlotOfNew(K_new, moves);
+    auto oldIndex = [&](int j) {
+      return j < kPoseDim ? j : landmarkRow(old_slot[(j - kPoseDim) / 3]) + (j - kPoseDim) % 3;
+    };
     auto at = [&](int i, int j) -> double& { return i >= j ? C_(i, j) : C_(j, i); };  // lower triangle
-    for (const SlotMove& mv : tailFillMoves(K_, slots)) {
+    for (const SlotMove& mv : moves) {
       for (int r = 0; r < 3; ++r) {
         const int dst = landmarkRow(mv.to) + r, src = landmarkRow(mv.from) + r;
         for (int j = 0; j < n_new; ++j) at(dst, j) = at(src, oldIndex(j));

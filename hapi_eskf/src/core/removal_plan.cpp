@@ -17,12 +17,15 @@ std::vector<SlotMove> tailFillMoves(int K, const std::vector<int>& removed) {
   return moves;
 }
 
-std::vector<int> oldSlotOfNew(int K, const std::vector<int>& removed) {
-  const int K_new = K - static_cast<int>(removed.size());
+std::vector<int> oldSlotOfNew(int K_new, const std::vector<SlotMove>& moves) {
   std::vector<int> old(static_cast<std::size_t>(K_new));
   for (int k = 0; k < K_new; ++k) old[k] = k;
-  for (const SlotMove& m : tailFillMoves(K, removed)) old[m.to] = m.from;
+  for (const SlotMove& m : moves) old[m.to] = m.from;
   return old;
+}
+
+std::vector<int> oldSlotOfNew(int K, const std::vector<int>& removed) {
+  return oldSlotOfNew(K - static_cast<int>(removed.size()), tailFillMoves(K, removed));
 }
 
 }  // namespace hapi_eskf

@@ -163,10 +163,7 @@ inline bool autoSolveByInverse(int n) { return n >= 20000; }
 // offsets within 128 bytes).
 inline std::size_t paddedLd(int n) { return (static_cast<std::size_t>(n) + 31) / 32 * 32; }
 
-// Name <-> variant, for the environment switch and the bench's labels.
-inline const char* toString(RankUpdate r) {
-  return r == RankUpdate::kSyrk ? "syrk" : (r == RankUpdate::kRecursive ? "recursive" : "gemm");
-}
+// Variant named by the environment switch; false (out untouched) otherwise.
 inline bool parseRankUpdate(const char* s, RankUpdate* out) {
   if (s == nullptr) return false;
   const std::string v(s);

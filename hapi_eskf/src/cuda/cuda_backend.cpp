@@ -308,7 +308,7 @@ class CudaBackend final : public CovarianceBackend {
     const std::vector<SlotMove> moves = tailFillMoves(K_, slots);
     if (!moves.empty()) {
       // ints_ layout: old slot of every new slot (K_new) | holes (h).
-      std::vector<int> h = oldSlotOfNew(K_, slots);
+      std::vector<int> h = oldSlotOfNew(K_new, moves);
       for (const SlotMove& m : moves) h.push_back(m.to);
       HAPI_CUDA_TRY(ints_.ensure(h.size()));
       int* d = ints_.get();
