@@ -20,8 +20,8 @@ namespace hapi_eskf {
 using ros_glue::Reject;
 
 EskfNodelet::~EskfNodelet() {
-  // Stop every entry point first: timers and callbacks use members (updater_,
-  // the output objects) that the worker uses too.
+  // Stop every entry point (timers, callbacks, services), then the worker:
+  // after this, no thread calls into a member while the members go.
   map_timer_.stop();
   diag_timer_.stop();
   landmarks_sub_.shutdown();

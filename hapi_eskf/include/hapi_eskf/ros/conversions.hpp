@@ -38,6 +38,7 @@ struct CameraInMap {
 };
 CameraInMap toCameraInMap(const PoseState& pose, const Eigen::Isometry3d& T_map_world);
 
+// T_map_cam with its covariance as geometry_msgs/PoseWithCovariance.
 // Covariance (ROS order [x y z rot_x rot_y rot_z], rotations about the fixed
 // axes of header.frame_id): the filter's error state is [dp (world), dtheta
 // (LOCAL, R = R_hat Exp(dtheta)), dv, dw (camera)] (DESIGN.md "Filter").
