@@ -73,6 +73,27 @@ struct IterationReport {
   bool update_skipped = false;  // S not PD etc.: state left unchanged
   bool relocalised = false;     // pose mean moved to the map fit after an outage (settings relocalise_gap)
   bool relocalising = false;    // after an outage, no map fit yet: prediction only (no update, no additions)
+
+  // Adds the per-frame amounts of `o` (timings, counts, mean_nis), so that a
+  // sum over frames divided by their number is the per-frame mean. The pool
+  // size n_landmarks and the flags describe one frame, not an amount: they
+  // are left as they are.
+  IterationReport& operator+=(const IterationReport& o) {
+    t_predict_ms += o.t_predict_ms;
+    t_association_ms += o.t_association_ms;
+    t_update_ms += o.t_update_ms;
+    t_removal_ms += o.t_removal_ms;
+    t_addition_ms += o.t_addition_ms;
+    t_total_ms += o.t_total_ms;
+    n_measurements += o.n_measurements;
+    n_candidates += o.n_candidates;
+    n_gated_out += o.n_gated_out;
+    n_updated += o.n_updated;
+    n_added += o.n_added;
+    n_removed += o.n_removed;
+    mean_nis += o.mean_nis;
+    return *this;
+  }
 };
 
 }  // namespace hapi_eskf

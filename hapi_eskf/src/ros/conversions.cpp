@@ -28,26 +28,63 @@ StereoFrame toStereoFrame(const hapi_msgs::StereoLandmarks& msg) {
   return f;
 }
 
-geometry_msgs::PoseWithCovariance toPoseWithCovariance(const PoseState& pose, const Mat12& C,
-                                                       const Eigen::Isometry3d& T_map_world) {
-  const Mat3 R_mw = T_map_world.linear();
-  const Eigen::Quaterniond q_mc = Eigen::Quaterniond(R_mw) * pose.q.normalized();
-  const Vec3 p_m = T_map_world * pose.p;
+Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized()
+                   .toRotationMatrix();
+  T.translation() = Vec3(t.translation.x, t.translation.y, t.translation.z);
+  return T;
+}
+
+geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
+  geometry_msgs::Transform t;
+  const Eigen::Quaterniond q(T.linear());
+  t.translation.x = T.translation().x();
+  t.translation.y = T.translation().y();
+  t.translation.z = T.translation().z();
+  t.rotation.w = q.w();
+  t.rotation.x = q.x();
+  t.rotation.y = q.y();
+  t.rotation.z = q.z();
+  return t;
+}
+
+Eigen::Isometry3d CameraInMap::isometry() const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = q.normalized().toRotationMatrix();
+  T.translation() = p;
+  return T;
+}
+
+CameraInMap toCameraInMap(const PoseState& pose, const Eigen::Isometry3d& T_map_world) {
+  CameraInMap out;
+  out.q = Eigen::Quaterniond(T_map_world.linear()) * pose.q.normalized();
+  out.p = T_map_world * pose.p;
+  return out;
+}
+
+geometry_msgs::PoseWithCovariance toPoseWithCovariance(const CameraInMap& T_map_cam, const Mat12& C,
+                                                       const Mat3& R_map_world) {
   geometry_msgs::PoseWithCovariance out;
-  out.pose.position.x = p_m.x();
-  out.pose.position.y = p_m.y();
-  out.pose.position.z = p_m.z();
-  out.pose.orientation.w = q_mc.w();
-  out.pose.orientation.x = q_mc.x();
-  out.pose.orientation.y = q_mc.y();
-  out.pose.orientation.z = q_mc.z();
+  out.pose.position.x = T_map_cam.p.x();
+  out.pose.position.y = T_map_cam.p.y();
+  out.pose.position.z = T_map_cam.p.z();
+  out.pose.orientation.w = T_map_cam.q.w();
+  out.pose.orientation.x = T_map_cam.q.x();
+  out.pose.orientation.y = T_map_cam.q.y();
+  out.pose.orientation.z = T_map_cam.q.z();
   Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
-  J.block<3, 3>(0, 0) = R_mw;
-  J.block<3, 3>(3, 3) = q_mc.toRotationMatrix();
+  J.block<3, 3>(0, 0) = R_map_world;
+  J.block<3, 3>(3, 3) = T_map_cam.q.toRotationMatrix();
   const Eigen::Matrix<double, 6, 6> S = J * C.block<6, 6>(kIdxP, kIdxP) * J.transpose();
   for (int r = 0; r < 6; ++r)
     for (int c = 0; c < 6; ++c) out.covariance[6 * r + c] = 0.5 * (S(r, c) + S(c, r));
   return out;
+}
+
+geometry_msgs::PoseWithCovariance toPoseWithCovariance(const PoseState& pose, const Mat12& C,
+                                                       const Eigen::Isometry3d& T_map_world) {
+  return toPoseWithCovariance(toCameraInMap(pose, T_map_world), C, T_map_world.linear());
 }
 
 geometry_msgs::TwistWithCovariance toTwistWithCovariance(const PoseState& pose, const Mat12& C) {

@@ -5,6 +5,7 @@
 #include "hapi_eskf/types.hpp"
 
 #include <geometry_msgs/PoseWithCovariance.h>
+#include <geometry_msgs/Transform.h>
 #include <geometry_msgs/TwistWithCovariance.h>
 #include <hapi_msgs/StereoLandmarks.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -20,16 +21,33 @@ namespace ros_glue {
 // validateLandmarks; nothing is re-checked here).
 StereoFrame toStereoFrame(const hapi_msgs::StereoLandmarks& msg);
 
+// geometry_msgs/Transform <-> rigid transform (the quaternion is normalised
+// on the way in: TF carries it as four independent doubles).
+Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t);
+geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
+
 // Pose of the camera in the published world frame: T_map_cam = T_map_world *
 // T_world_cam, where `world` is the filter's world (the first camera) and
 // T_map_world the fixed anchoring transform (identity unless ~base_frame).
-//
+// Kept as position and quaternion so that odometry, TF and path are all
+// filled from this one value.
+struct CameraInMap {
+  Vec3 p = Vec3::Zero();
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  Eigen::Isometry3d isometry() const;
+};
+CameraInMap toCameraInMap(const PoseState& pose, const Eigen::Isometry3d& T_map_world);
+
+// T_map_cam with its covariance as geometry_msgs/PoseWithCovariance.
 // Covariance (ROS order [x y z rot_x rot_y rot_z], rotations about the fixed
 // axes of header.frame_id): the filter's error state is [dp (world), dtheta
 // (LOCAL, R = R_hat Exp(dtheta)), dv, dw (camera)] (DESIGN.md "Filter").
 // R_hat Exp(dtheta) = Exp(R_hat dtheta) R_hat, so the global rotation error
 // is R_map_cam dtheta and the position error R_map_world dp:
 //   Sigma_pose = J C[0:6,0:6] J^T,  J = blockdiag(R_map_world, R_map_cam).
+geometry_msgs::PoseWithCovariance toPoseWithCovariance(const CameraInMap& T_map_cam, const Mat12& C,
+                                                       const Mat3& R_map_world);
+// Same, from the filter pose: toCameraInMap + the above.
 geometry_msgs::PoseWithCovariance toPoseWithCovariance(const PoseState& pose, const Mat12& C,
                                                        const Eigen::Isometry3d& T_map_world);
 

@@ -1,0 +1,82 @@
+// Counters and per-stage timings of hapi_eskf/EskfNodelet, and the
+// /diagnostics status built from them (keys listed in diagnose()).
+//
+// Threads: the counters are atomics, counted from any thread (callbacks,
+// worker, IMU-rate output) without a lock. The worker records the filter's
+// figures (recordFrame, recordBackend, recordFilterError); the diagnostics
+// timer calls diagnose(). mu_ guards the filter's figures; the previous
+// report's values are the diagnostics timer's own.
+#pragma once
+
+#include "hapi_eskf/ros/validation.hpp"
+#include "hapi_eskf/types.hpp"
+
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <ros/time.h>
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+namespace hapi_eskf {
+namespace ros_glue {
+
+// Backend memory is reported in MiB.
+constexpr double kBytesPerMiB = 1024.0 * 1024.0;
+
+class NodeletStatistics {
+ public:
+  using Counter = std::atomic<std::uint64_t>;
+  struct Counters {
+    Counter frames_received{0}, frames_accepted{0}, frames_processed{0};
+    Counter frames_stale{0};   // accepted before a reset: belonged to the old timeline
+    Counter frames_failed{0};  // taken by the worker but not used (filter error, exception, no TF)
+    Counter resets{0}, time_jumps{0}, update_skips{0}, filter_errors{0};
+    Counter relocalisations{0}, frames_relocalising{0};
+    Counter imu_used{0}, imu_dropped{0};
+    Counter outputs{0};      // odom/pose/TF outputs (per frame, or per gyro sample with ~use_imu)
+    Counter imu_outputs{0};  // of which from the IMU-rate propagation
+    std::array<Counter, kRejectCount> rejected{};  // by Reject reason
+  };
+
+  // `use_imu`: the IMU counters are reported only with ~use_imu.
+  explicit NodeletStatistics(bool use_imu);
+
+  Counters counters;
+
+  // --- worker thread ---
+  // A frame the filter used: its stage timings and the pool after it.
+  void recordFrame(const IterationReport& report, int n_landmarks, std::size_t backend_memory);
+  void recordBackend(const std::string& name, std::size_t memory);
+  void recordFilterError(const std::string& what);
+
+  // --- diagnostics timer ---
+  // Rates and per-frame means over the period since the previous call;
+  // `frames_dropped` is the mailbox's count (newer frame arrived first).
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat, std::uint64_t frames_dropped);
+
+ private:
+  // Sums of the per-stage figures since the last report.
+  struct StageStats {
+    int n = 0;
+    IterationReport sum;
+  };
+
+  const bool use_imu_;
+  std::mutex mu_;
+  StageStats stages_;
+  std::string last_filter_error_;
+  std::string backend_name_ = "none (waiting for the first frame)";
+  std::size_t backend_memory_ = 0;
+  int n_landmarks_ = 0;
+  // Counter values and time of the previous report (for the rates);
+  // diagnostics timer only.
+  std::uint64_t prev_outputs_ = 0, prev_accepted_ = 0, prev_processed_ = 0, prev_rejected_ = 0, prev_dropped_ = 0;
+  ros::WallTime prev_time_;
+};
+
+}  // namespace ros_glue
+}  // namespace hapi_eskf

@@ -1,0 +1,119 @@
+// Counters, stage timings and the /diagnostics status of EskfNodelet
+// (statistics.hpp says which thread calls what).
+#include "hapi_eskf/ros/statistics.hpp"
+
+#include <algorithm>
+
+namespace hapi_eskf {
+namespace ros_glue {
+
+NodeletStatistics::NodeletStatistics(bool use_imu) : use_imu_(use_imu), prev_time_(ros::WallTime::now()) {}
+
+void NodeletStatistics::recordFrame(const IterationReport& report, int n_landmarks, std::size_t backend_memory) {
+  std::lock_guard<std::mutex> lk(mu_);
+  ++stages_.n;
+  stages_.sum += report;
+  n_landmarks_ = n_landmarks;
+  backend_memory_ = backend_memory;
+}
+
+void NodeletStatistics::recordBackend(const std::string& name, std::size_t memory) {
+  std::lock_guard<std::mutex> lk(mu_);
+  backend_name_ = name;
+  backend_memory_ = memory;
+}
+
+void NodeletStatistics::recordFilterError(const std::string& what) {
+  std::lock_guard<std::mutex> lk(mu_);
+  last_filter_error_ = what;
+}
+
+void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat, std::uint64_t frames_dropped) {
+  const ros::WallTime now = ros::WallTime::now();
+  const double dt = std::max(1e-6, (now - prev_time_).toSec());
+  prev_time_ = now;
+  const std::uint64_t accepted = counters.frames_accepted, processed = counters.frames_processed,
+                      dropped = frames_dropped, outputs = counters.outputs;
+  std::uint64_t rejected = 0;
+  for (const auto& r : counters.rejected) rejected += r.load();
+  const double in_rate = (accepted - prev_accepted_) / dt, proc_rate = (processed - prev_processed_) / dt;
+  const std::uint64_t new_rejected = rejected - prev_rejected_, new_dropped = dropped - prev_dropped_;
+  const double out_rate = (outputs - prev_outputs_) / dt;
+  prev_outputs_ = outputs;
+  prev_accepted_ = accepted;
+  prev_processed_ = processed;
+  prev_rejected_ = rejected;
+  prev_dropped_ = dropped;
+
+  StageStats s;
+  std::string backend, last_error;
+  std::size_t memory;
+  int landmarks;
+  {
+    std::lock_guard<std::mutex> lk(mu_);
+    s = stages_;
+    stages_ = StageStats();
+    backend = backend_name_;
+    memory = backend_memory_;
+    landmarks = n_landmarks_;
+    last_error = last_filter_error_;
+  }
+  if (new_rejected > 0)
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%llu input messages rejected in the last %.1f s",
+                  static_cast<unsigned long long>(new_rejected), dt);
+  else if (new_dropped > 0)
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%llu frames dropped (processing slower than input)",
+                  static_cast<unsigned long long>(new_dropped));
+  else if (accepted == 0)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "waiting for landmarks");
+  else
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
+
+  const double n = std::max(1, s.n);
+  stat.add("input_rate_hz", in_rate);
+  stat.add("processing_rate_hz", proc_rate);
+  // odom/pose/TF outputs per second: the frame rate, or the IMU rate with ~use_imu.
+  stat.add("output_rate_hz", out_rate);
+  stat.add("frames_received", counters.frames_received.load());
+  stat.add("frames_accepted", accepted);
+  stat.add("frames_processed", processed);
+  stat.add("frames_dropped", dropped);
+  stat.add("frames_stale_after_reset", counters.frames_stale.load());
+  // Once idle: accepted == processed + dropped + stale_after_reset + failed.
+  stat.add("frames_failed", counters.frames_failed.load());
+  stat.add("rejected_total", rejected);
+  for (int r = 1; r < kRejectCount; ++r)
+    stat.add(std::string("rejected_") + rejectName(static_cast<Reject>(r)), counters.rejected[r].load());
+  stat.add("update_skips", counters.update_skips.load());
+  stat.add("relocalisations", counters.relocalisations.load());
+  stat.add("frames_relocalising", counters.frames_relocalising.load());
+  stat.add("filter_errors", counters.filter_errors.load());
+  stat.add("last_filter_error", last_error);
+  stat.add("resets", counters.resets.load());
+  stat.add("time_jumps", counters.time_jumps.load());
+  stat.add("landmarks", landmarks);
+  stat.add("backend", backend);
+  stat.add("backend_memory_mib", memory / kBytesPerMiB);
+  // Mean per-stage wall time over the frames of this period [ms].
+  stat.add("frames_in_period", s.n);
+  stat.add("t_predict_ms", s.sum.t_predict_ms / n);
+  stat.add("t_association_ms", s.sum.t_association_ms / n);
+  stat.add("t_update_ms", s.sum.t_update_ms / n);
+  stat.add("t_removal_ms", s.sum.t_removal_ms / n);
+  stat.add("t_addition_ms", s.sum.t_addition_ms / n);
+  stat.add("t_total_ms", s.sum.t_total_ms / n);
+  stat.add("measurements_per_frame", s.sum.n_measurements / n);
+  stat.add("updated_per_frame", s.sum.n_updated / n);
+  stat.add("gated_out_per_frame", s.sum.n_gated_out / n);
+  stat.add("added_per_frame", s.sum.n_added / n);
+  stat.add("removed_per_frame", s.sum.n_removed / n);
+  stat.add("mean_nis", s.sum.mean_nis / n);
+  if (use_imu_) {
+    stat.add("imu_samples_used", counters.imu_used.load());
+    stat.add("imu_samples_dropped", counters.imu_dropped.load());
+    stat.add("imu_rate_outputs", counters.imu_outputs.load());
+  }
+}
+
+}  // namespace ros_glue
+}  // namespace hapi_eskf
