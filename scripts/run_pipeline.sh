@@ -140,7 +140,7 @@ trap - INT TERM
 [ -f "$DIAG" ] || echo "[pipeline] WARNING: no diagnostics bag ($DIAG)" >&2
 
 set +e
-/usr/bin/python3 "$REPO/scripts/pipeline_summary.py" "$REPORT" "$DIAG"
+/usr/bin/python3 "$REPO/tools/eval/pipeline_summary.py" "$REPORT" "$DIAG"
 src=$?
 set -e
 echo "[pipeline] report: $REPORT, diagnostics: $DIAG, log: $LOG, node logs: $ROS_HOME/log"

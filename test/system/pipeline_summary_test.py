@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Unit test of scripts/pipeline_summary.py, the printout of the main job.
+"""Unit test of tools/eval/pipeline_summary.py, the printout of the main job.
 
 A report YAML and a /diagnostics bag are written here with known values, so
 the test checks what the summary computes (frame-weighted stage means, the
@@ -18,7 +18,7 @@ import yaml
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SCRIPT = os.path.join(HERE, "..", "..", "scripts", "pipeline_summary.py")
+SCRIPT = os.path.join(HERE, "..", "..", "tools", "eval", "pipeline_summary.py")
 sys.path.insert(0, os.path.dirname(SCRIPT))
 import pipeline_summary  # noqa: E402
 

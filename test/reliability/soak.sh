@@ -7,7 +7,7 @@
 # growth after the warm-up must be bounded (the filter's pool is fixed-size;
 # anything that grows with time is a leak or an unbounded buffer).
 #
-#   scripts/reliability/soak.sh [BAG]        (after scripts/setup.sh)
+#   test/reliability/soak.sh [BAG]        (after scripts/setup.sh)
 #
 # Private roscore on a free port; results in $HAPI_RUN_DIR (default
 # <ws>/reliability/soak): samples.csv, probe.json, logs, report.txt.
@@ -72,7 +72,7 @@ done
 [ -n "$MGR_PID" ] || die "nodelet manager process not found"
 log "manager pid $MGR_PID; looping $BAG for $DURATION s, sampling every $PERIOD s"
 
-python3 "$REPO/scripts/reliability/ros_probe.py" --duration "$((DURATION + 5))" --out "$OUT/probe.json" \
+python3 "$REPO/test/reliability/ros_probe.py" --duration "$((DURATION + 5))" --out "$OUT/probe.json" \
   >"$OUT/probe.log" 2>&1 &
 PROBE_PID=$!
 PIDS+=("$PROBE_PID")

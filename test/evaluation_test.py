@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""Unit tests of scripts/evaluation.py (alignment, association, metrics)."""
+"""Unit tests of tools/eval/evaluation.py (alignment, association, metrics)."""
 import os
 import sys
 import unittest
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools", "eval"))
 import evaluation as ev  # noqa: E402
 
 

@@ -8,7 +8,7 @@
 # link in user space over two TUN devices; without /dev/net/tun either, a
 # veth with iptables random loss and NO delay (said loudly in the report).
 #
-#   scripts/reliability/two_hosts.sh [BAG]        (root; after setup.sh)
+#   test/reliability/two_hosts.sh [BAG]        (root; after setup.sh)
 #
 # Phases (each watched from the server side by ros_probe.py):
 #   1. play the bag once: the system runs across the lossy link (odometry
@@ -114,7 +114,7 @@ elif [[ "$LINK" == auto || "$LINK" == tun ]] && [ -c /dev/net/tun ]; then
   ip -n "$NS_R" link del "$IF_R"    # (takes its peer along)
   LINK_KIND=tun
   IMPAIR="TUN pair + delay_line.py (user-space netem; this kernel has no sch_netem): delay ${DELAY_MS} ms, loss $LOSS % each way"
-  python3 "$REPO/scripts/reliability/delay_line.py" --ns-a "$NS_R" --ip-a "$IP_R" --ns-b "$NS_S" --ip-b "$IP_S" \
+  python3 "$REPO/test/reliability/delay_line.py" --ns-a "$NS_R" --ip-a "$IP_R" --ns-b "$NS_S" --ip-b "$IP_S" \
     --dev-a "$IF_R" --dev-b "$IF_S" --delay-ms "$DELAY_MS" --loss "$LOSS" --stats "$OUT/link.json" \
     --ready "$OUT/link.ready" >"$OUT/delay_line.log" 2>&1 &
   DELAY_LINE_PID=$!
@@ -186,7 +186,7 @@ sleep 2
 
 probe() {  # probe SECONDS NAME (background; PROBE_PID, PROBE_START)
   PROBE_START=$(python3 -c "import time; print(time.time())")
-  ip netns exec "$NS_S" "${ENV_S[@]}" python3 "$REPO/scripts/reliability/ros_probe.py" --duration "$1" \
+  ip netns exec "$NS_S" "${ENV_S[@]}" python3 "$REPO/test/reliability/ros_probe.py" --duration "$1" \
     --out "$OUT/$2.json" >"$OUT/$2.log" 2>&1 &
   PROBE_PID=$!
 }
@@ -277,7 +277,7 @@ elif [ "$LINK_KIND" = tun ]; then
 fi
 
 # ------------------------------------------------------------- verdict
-python3 "$REPO/scripts/reliability/two_hosts_verdict.py" --out "$OUT" --bag-len "$BAG_LEN" --link "$IMPAIR" \
+python3 "$REPO/test/reliability/two_hosts_verdict.py" --out "$OUT" --bag-len "$BAG_LEN" --link "$IMPAIR" \
   --link-kind "$LINK_KIND" --kill-wall "$KILL_WALL" --restart-wall "$RESTART_WALL" \
   --manager-pids "$MGR_PID_START" "$MGR_PID_END" --bag "$BAG" --max-step-error "${HAPI_MAX_STEP_ERROR:-0.5}" |
   tee "$OUT/report.txt"

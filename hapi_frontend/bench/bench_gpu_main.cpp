@@ -12,8 +12,8 @@
 #include "hapi_frontend/orb_core.hpp"
 #include "hapi_frontend/stereo_match_core.hpp"
 
-#include "frames.hpp"
-#include "orb_compare.hpp"
+#include "gpu/frames.hpp"
+#include "gpu/orb_compare.hpp"
 
 #include <algorithm>
 #include <chrono>

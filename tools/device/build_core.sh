@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds the ROS-free core on the lent GPU machine (CUDA, CMake and ninja, but
 # no Debian -dev packages): Eigen headers and GoogleTest sources travel in
-# .device/ (prepared by scripts/device/prepare.sh, carried with the call).
-#   scripts/device/build_core.sh [build-dir] [packages]
+# .device/ (prepared by tools/device/prepare.sh, carried with the call).
+#   tools/device/build_core.sh [build-dir] [packages]
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 B="${1:-$REPO/build-device}"

@@ -3,7 +3,7 @@
 
     pipeline_summary.py REPORT.yaml [DIAGNOSTICS.bag] [--max-ate-fraction 0.02] [--max-map-rms 0.01]
 
-REPORT.yaml is what scripts/evaluate_run.py wrote (ATE after rigid
+REPORT.yaml is what tools/eval/evaluate_run.py wrote (ATE after rigid
 alignment, map RMS to the true sphere, rates). DIAGNOSTICS.bag is /diagnostics
 recorded during the run: the nodelets publish per-window mean stage timings
 ("time <stage> [ms]"), so the per-stage timing of the whole run is the mean of

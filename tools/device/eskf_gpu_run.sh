@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# One device call for the ES-EKF core (issue 3): build, every hapi_eskf test
+# One device call for the ES-EKF core: build, every hapi_eskf test
 # (GPU tests included), the benchmark table (CPU and GPU in one run) and the
 # in-filter comparison of the CUDA variants. Logs go to $OUT (or ./device-out).
-#   scripts/device/eskf_gpu_run.sh            (carry .device, see prepare.sh)
+#   tools/device/eskf_gpu_run.sh            (carry .device, see prepare.sh)
 set -uo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 OUT="${OUT:-$REPO/device-out}"
@@ -11,7 +11,7 @@ B="$REPO/build-device"
 nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm,power.limit --format=csv | tee "$OUT/device.txt"
 git -C "$REPO" log -1 --format='commit %H' 2>/dev/null | tee -a "$OUT/device.txt"
 git -C "$REPO" status --short 2>/dev/null | head -20 | tee -a "$OUT/device.txt"
-bash "$REPO/scripts/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
+bash "$REPO/tools/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
 echo "build ok"
 (cd "$B" && ctest --output-on-failure 2>&1) >"$OUT/ctest.log"; tail -15 "$OUT/ctest.log"
 BENCH="$B/hapi_eskf/bench/hapi_eskf_bench"

@@ -1,6 +1,6 @@
 """Trajectory and map metrics for the HAPI pipeline (pure numpy, no ROS).
 
-Used by scripts/evaluate_run.py (live, in launch files and rostests) and by
+Used by tools/eval/evaluate_run.py (live, in launch files and rostests) and by
 its unit test. Conventions: poses are (position p [m], quaternion q = (x, y, z,
 w)) of the left camera optical frame; the filter's world frame and the ground
 truth's "map" frame differ by an unknown rigid transform, found by a least

@@ -4,13 +4,13 @@
 # OpenGL), takes a screenshot of the empty scene while the bag player waits
 # paused, resumes the player (its ~pause_playback service) and takes a second
 # shot while the pipeline runs, then checks that the landmark map is drawn in
-# the 3D view (scripts/rviz_screenshot_check.py: changed, non-display-colour
+# the 3D view (test/system/rviz_screenshot_check.py: changed, non-display-colour
 # pixels in the region of rviz's background colour). The pause makes the
 # "before" shot independent of how long rviz needs to come up (software GL on
 # a loaded 2-core CI machine), with no fixed delay to guess. A start in which
 # rviz itself crashes (software GL under Xvfb, see below) is repeated once.
 #
-#   scripts/rviz_screenshot.sh BAG [OUT_DIR]
+#   test/system/rviz_screenshot.sh BAG [OUT_DIR]
 #
 # Env: HAPI_SHOT_AT (wall seconds after resuming the player before the second
 #      shot, default 10), HAPI_SHOT_RVIZ_TIMEOUT (seconds to wait for the rviz
@@ -23,7 +23,7 @@
 # The pipeline's own verdict (ATE/map bounds) is printed but not part of this
 # check: globe_accuracy.test asserts it.
 set -euo pipefail
-REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 WS="${HAPI_WS:-$REPO/.ws}"
 export PATH="/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
 [ $# -ge 1 ] || { echo "usage: $0 BAG [OUT_DIR]" >&2; exit 1; }
@@ -152,7 +152,7 @@ set +e
 # on TERM. HAPI_SHOT_FULL_RUN=1 lets it run to the end and print its result.
 [ "${HAPI_SHOT_FULL_RUN:-0}" = 1 ] || kill -TERM "$RUN_PID" 2>/dev/null
 wait "$RUN_PID"; run_rc=$?; RUN_PID=""
-/usr/bin/python3 "$REPO/scripts/rviz_screenshot_check.py" "$OUT/before.xwd" "$OUT/after.xwd" "$OUT/rviz.png" \
+/usr/bin/python3 "$REPO/test/system/rviz_screenshot_check.py" "$OUT/before.xwd" "$OUT/after.xwd" "$OUT/rviz.png" \
   --min-pixels "$MIN_PIXELS"
 rc=$?
 set -e

@@ -14,7 +14,7 @@ the same stamp,
 publishes it once as a static transform map -> world, and republishes the
 ground truth as a nav_msgs/Path in `world` (~path, default
 /ground_truth/path) for rviz. Visual comparison only: the metrics use a least
-squares alignment of the whole trajectory (scripts/evaluation.py).
+squares alignment of the whole trajectory (tools/eval/evaluation.py).
 """
 import threading
 
