@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   PipelineParams orb;
-  orb.max_landmarks = 200;
+  orb.landmarks_per_frame = 200;
   rows.push_back(runConfig("ORB N=200", orb, w, pairs, reps));
   PipelineParams orb_noref = orb;
   orb_noref.refine_subpixel = false;

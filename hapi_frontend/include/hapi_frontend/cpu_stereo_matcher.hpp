@@ -20,6 +20,7 @@ class CpuStereoMatcher : public StereoMatcher {
                                  const FeatureSet& right, const std::vector<Eigen::Vector2d>& right_undist,
                                  const Eigen::Matrix3d& F, const StereoMatchParams& params) override;
   std::string name() const override { return "cpu_bruteforce_hamming"; }
+  bool usingGpu() const override { return false; }
 };
 
 // use_gpu: the CUDA matcher (StereoMatchCuda, same output as the CPU one) when

@@ -36,6 +36,9 @@ class FeatureExtractor {
   virtual ~FeatureExtractor() = default;
   virtual FeatureSet extract(const cv::Mat& gray8) = 0;
   virtual std::string name() const = 0;
+  // True while extract() runs on the GPU (a GPU implementation that fell back
+  // to the CPU answers false from then on).
+  virtual bool usingGpu() const = 0;
 };
 
 // Left/right association constraints, in *undistorted* pixel coordinates.
@@ -64,6 +67,8 @@ class StereoMatcher {
                                          const FeatureSet& right, const std::vector<Eigen::Vector2d>& right_undist,
                                          const Eigen::Matrix3d& F, const StereoMatchParams& params) = 0;
   virtual std::string name() const = 0;
+  // True while match() runs on the GPU (as FeatureExtractor::usingGpu()).
+  virtual bool usingGpu() const = 0;
 };
 
 }  // namespace hapi_frontend

@@ -13,6 +13,7 @@ class OpenCvOrbExtractor : public FeatureExtractor {
   explicit OpenCvOrbExtractor(int n_features = 1000, int fast_threshold = 20);
   FeatureSet extract(const cv::Mat& gray8) override;
   std::string name() const override { return "opencv_orb"; }
+  bool usingGpu() const override { return false; }
 
  private:
   cv::Ptr<cv::ORB> orb_;
@@ -23,6 +24,7 @@ class AkazeExtractor : public FeatureExtractor {
   explicit AkazeExtractor(float threshold = 0.0005f);
   FeatureSet extract(const cv::Mat& gray8) override;
   std::string name() const override { return "akaze"; }
+  bool usingGpu() const override { return false; }
 
  private:
   cv::Ptr<cv::AKAZE> akaze_;

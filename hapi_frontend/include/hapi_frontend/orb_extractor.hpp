@@ -25,7 +25,7 @@ class OrbExtractor : public FeatureExtractor {
   // switches this instance to the CPU core for good (reported by gpuStatus()).
   FeatureSet extract(const cv::Mat& gray8) override;
   std::string name() const override { return usingGpu() ? "orb_cuda" : "orb_cpu"; }
-  bool usingGpu() const;
+  bool usingGpu() const override;
   const std::string& gpuStatus() const { return gpu_status_; }
 
  private:

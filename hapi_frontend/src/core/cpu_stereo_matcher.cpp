@@ -91,6 +91,7 @@ class CudaStereoMatcher : public StereoMatcher {
     return cpu_.match(left, left_undist, right, right_undist, F, params);
   }
   std::string name() const override { return gpu_ ? "cuda_bruteforce_hamming" : cpu_.name(); }
+  bool usingGpu() const override { return gpu_ != nullptr; }
   std::unique_ptr<StereoMatchCuda> gpu_ = std::make_unique<StereoMatchCuda>();
 
  private:

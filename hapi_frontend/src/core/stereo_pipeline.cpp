@@ -18,33 +18,9 @@
 #include <cstring>
 #include <numeric>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 
 namespace hapi_frontend {
-
-std::string PipelineParams::validate() const {
-  std::ostringstream e;
-  if (detector != "orb" && detector != "akaze") e << "detector must be 'orb' or 'akaze' (got '" << detector << "'); ";
-  if (max_landmarks < 1) e << "max_landmarks must be >= 1; ";
-  if (detector_features < 1) e << "detector_features must be >= 1; ";
-  if (fast_threshold < 1 || fast_threshold > 254) e << "fast_threshold must be in [1, 254]; ";
-  if (pyramid_levels < 1 || pyramid_levels > 12) e << "pyramid_levels must be in [1, 12]; ";
-  if (!(downscale >= 1.0) || downscale > 16.0) e << "downscale must be in [1, 16]; ";
-  if (!(pixel_sigma > 0) || !std::isfinite(pixel_sigma)) e << "pixel_sigma must be > 0; ";
-  if (!(min_depth > 0) || !(max_depth > min_depth) || !std::isfinite(max_depth))
-    e << "need 0 < min_depth < max_depth < inf; ";
-  if (!(match.max_epipolar_px > 0)) e << "match.max_epipolar_px must be > 0; ";
-  if (!(match.max_disparity > match.min_disparity)) e << "match.max_disparity must exceed match.min_disparity; ";
-  if (!(match.ratio > 0) || match.ratio > 1.0) e << "match.ratio must be in (0, 1]; ";
-  if (match.max_hamming < 0) e << "match.max_hamming must be >= 0; ";
-  if (refine_half_patch < 1 || refine_half_patch > 30) e << "refine_half_patch must be in [1, 30]; ";
-  if (refine_radius < 1 || refine_radius > 30) e << "refine_radius must be in [1, 30]; ";
-  if (!(refine_min_zncc >= -1.0) || refine_min_zncc > 1.0) e << "refine_min_zncc must be in [-1, 1]; ";
-  std::string s = e.str();
-  if (s.size() >= 2) s.resize(s.size() - 2);
-  return s;
-}
 
 struct StereoPipeline::Impl {
   PipelineParams p;
@@ -169,8 +145,8 @@ std::string StereoPipeline::process(const cv::Mat& left_in, const cv::Mat& right
     t0 = Clock::now();
     FeatureSet fr = m.extractor->extract(det_r);
     out->times.detect_right = msSince(t0);
-    auto* orb = dynamic_cast<OrbExtractor*>(m.extractor.get());
-    out->used_gpu = orb != nullptr && orb->usingGpu();
+    // Asked after extract(): a CUDA failure during it switches to the CPU.
+    out->used_gpu = m.extractor->usingGpu();
     out->descriptor_type = fl.type;
     out->n_left = static_cast<int>(fl.keypoints.size());
     out->n_right = static_cast<int>(fr.keypoints.size());
@@ -192,7 +168,7 @@ std::string StereoPipeline::process(const cv::Mat& left_in, const cv::Mat& right
     t0 = Clock::now();
     std::vector<StereoMatch> matches = m.matcher->match(fl, und_l, fr, und_r, m.F, p.match);
     out->times.match = msSince(t0);
-    out->used_gpu = out->used_gpu || m.matcher->name().rfind("cuda", 0) == 0;
+    out->used_gpu = out->used_gpu || m.matcher->usingGpu();
     out->n_matches = static_cast<int>(matches.size());
     // --- N strongest + triangulate. Strength = left response; ties keep the
     // matcher's order (left index ascending), so the result is deterministic.
@@ -208,7 +184,7 @@ std::string StereoPipeline::process(const cv::Mat& left_in, const cv::Mat& right
     double refine_ms = 0.0;
     std::vector<int> kept_left;
     for (const StereoMatch& mt : matches) {
-      if (static_cast<int>(out->landmarks.size()) >= p.max_landmarks) break;
+      if (static_cast<int>(out->landmarks.size()) >= p.landmarks_per_frame) break;
       const Feature& kl = fl.keypoints[mt.left];
       const Feature& kr = fr.keypoints[mt.right];
       Eigen::Vector2d ur = und_r[mt.right];

@@ -1,3 +1,4 @@
+// FrontendDiagnostics (frontend_diagnostics.hpp): counters and the status task.
 #include "frontend_diagnostics.hpp"
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
@@ -43,11 +44,6 @@ void FrontendDiagnostics::timeReset() {
   ++time_resets_;
 }
 
-void FrontendDiagnostics::setFatal(const std::string& why) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  fatal_ = why;
-}
-
 uint64_t FrontendDiagnostics::rejectedCount(const std::string& reason) const {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = rejected_.find(reason);
@@ -61,9 +57,8 @@ void FrontendDiagnostics::produce(diagnostic_updater::DiagnosticStatusWrapper& s
   const double n = static_cast<double>(std::max<uint64_t>(1, win_frames_));
 
   using diagnostic_msgs::DiagnosticStatus;
-  if (!fatal_.empty()) stat.summary(DiagnosticStatus::ERROR, "not running: " + fatal_);
-  else if (win_rejects_ > 0) stat.summaryf(DiagnosticStatus::WARN, "%lu input frames rejected in the last %.1f s (%s)",
-                                            static_cast<unsigned long>(win_rejects_), dt, last_reject_.c_str());
+  if (win_rejects_ > 0) stat.summaryf(DiagnosticStatus::WARN, "%lu input frames rejected in the last %.1f s (%s)",
+                                      static_cast<unsigned long>(win_rejects_), dt, last_reject_.c_str());
   else if (win_frames_ == 0) stat.summary(DiagnosticStatus::WARN, "no stereo frames processed (waiting for images)");
   else stat.summary(DiagnosticStatus::OK, "processing");
 

@@ -23,8 +23,6 @@ class FrontendDiagnostics {
   void rejected(const std::string& reason, const std::string& detail);
   void dropped(const std::string& reason);
   void timeReset();
-  // Set when start-up failed: reported as ERROR forever.
-  void setFatal(const std::string& why);
 
   // diagnostic_updater task; rates are computed over the time since the
   // previous call.
@@ -34,7 +32,6 @@ class FrontendDiagnostics {
 
  private:
   mutable std::mutex mutex_;
-  std::string fatal_;
   uint64_t processed_ = 0, time_resets_ = 0;
   std::map<std::string, uint64_t> rejected_, dropped_;
   std::string last_reject_;

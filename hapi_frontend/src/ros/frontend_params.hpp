@@ -1,15 +1,19 @@
-// Private (~) parameters of StereoFrontendNodelet: read with strict type
-// checks and validated once at start-up. The nodelet refuses to run on any
-// invalid value (a silently defaulted typo would make a robot run with a
-// configuration nobody asked for). Defaults and meaning: config/frontend.yaml.
+// Private (~) parameters of StereoFrontendNodelet, read once at start-up with
+// hapi_nodelet_kit::ParamReader (typed reads, misspelled names, renamed
+// parameters). The ranges are declared once, next to the fields:
+// PipelineParams::visit() for the pipeline, FrontendNodeletParams::visit()
+// for the nodelet's own, hapi_nodelet_kit for ~time_jump_reset. Any violation
+// makes the nodelet refuse to run (hapi_nodelet_kit::StartupFailure).
+// Values and meaning for users: config/frontend.yaml.
 #pragma once
 
+#include "hapi_frontend/param_spec.hpp"
 #include "hapi_frontend/stereo_pipeline.hpp"
 
-#include <ros/node_handle.h>
+#include <hapi_nodelet_kit/param_reader.hpp>
+#include <hapi_nodelet_kit/stamp_guard.hpp>
 
 #include <string>
-#include <vector>
 
 namespace hapi_frontend {
 
@@ -20,20 +24,20 @@ struct FrontendNodeletParams {
   double approx_slop = 0.005;         // [s] max |t_left - t_right| accepted in approximate mode
   std::string image_transport = "raw";  // raw | compressed | ... (image_transport plugin)
   int mono16_bits = 16;               // significant bits of mono16 input (12-bit cameras: 12)
-  double max_backwards_jump = 1.0;    // [s] a larger backwards stamp jump is a time reset (bag loop)
+  // [s] StampGuard: a stamp further back than this is a time jump (bag loop).
+  double time_jump_reset = hapi_nodelet_kit::TimeJumpResetParam::kDefault;
+
+  // The nodelet's own fields (not the pipeline's, not time_jump_reset) with
+  // their declarations.
+  void visit(ParamVisitor& v);
 };
 
-struct ParamLoadResult {
-  std::vector<std::string> errors;    // each one makes the nodelet refuse to run
-  std::vector<std::string> warnings;  // e.g. unknown parameter names (typos)
-  bool ok() const { return errors.empty(); }
-};
+// The deprecated name of ~time_jump_reset in this nodelet.
+constexpr const char* kOldTimeJumpResetName = "max_backwards_jump";
 
-// Reads every parameter from the private node handle (missing ones keep the
-// defaults of FrontendNodeletParams/PipelineParams) and validates all of them.
-ParamLoadResult loadFrontendParams(const ros::NodeHandle& private_nh, FrontendNodeletParams* params);
-
-// The parameter names this nodelet understands (relative to ~).
-const std::vector<std::string>& frontendParamNames();
+// Reads every parameter through `reader` into *params (unset ones keep their
+// defaults) and validates all of them; every problem lands in `reader`
+// (errors: wrong type, out of range; warnings: deprecated or unknown names).
+void readFrontendParams(hapi_nodelet_kit::ParamReader& reader, FrontendNodeletParams* params);
 
 }  // namespace hapi_frontend

@@ -1,3 +1,5 @@
+// StereoFrontendNodelet (stereo_frontend_nodelet.hpp): start-up, stamp checks
+// of the synchronised inputs, and the worker that runs the pipeline.
 #include "stereo_frontend_nodelet.hpp"
 
 #include "image_input.hpp"
@@ -9,6 +11,8 @@
 #include <boost/make_shared.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <optional>
 #include <sstream>
 
 namespace hapi_frontend {
@@ -34,11 +38,7 @@ StereoFrontendNodelet::~StereoFrontendNodelet() {
   right_sub_.unsubscribe();
   left_info_sub_.unsubscribe();
   right_info_sub_.unsubscribe();
-  {
-    std::lock_guard<std::mutex> lock(mailbox_mutex_);
-    stop_ = true;
-  }
-  mailbox_cv_.notify_all();
+  mailbox_.close();  // wakes the worker, which then returns
   if (worker_.joinable()) worker_.join();
 }
 
@@ -46,61 +46,28 @@ void StereoFrontendNodelet::onInit() {
   ros::NodeHandle& nh = getMTNodeHandle();
   ros::NodeHandle& pnh = getMTPrivateNodeHandle();
 
-  // Diagnostics first, so that a configuration error is visible on
-  // /diagnostics and not only in the log.
-  updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), getPrivateNodeHandle(), getName());
-  updater_->setHardwareID("stereo_frontend");
-  updater_->add("stereo front end", &diag_, &FrontendDiagnostics::produce);
-  // Wall timer + force_update: diagnostics keep flowing when simulated time
-  // pauses or jumps backwards (bag loops).
-  diag_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(std::max(0.1, updater_->getPeriod())),
-                                                [this](const ros::WallTimerEvent&) { updater_->force_update(); });
-
-  const ParamLoadResult loaded = loadFrontendParams(pnh, &params_);
-  for (const auto& w : loaded.warnings) NODELET_WARN("%s", w.c_str());
-  if (!loaded.ok()) {
-    std::string all;
-    for (const auto& e : loaded.errors) {
-      NODELET_FATAL("invalid parameter: %s", e.c_str());
-      all += (all.empty() ? "" : "; ") + e;
-    }
-    NODELET_FATAL("StereoFrontendNodelet refuses to run with an invalid configuration (see config/frontend.yaml)");
-    diag_.setFatal("invalid parameters: " + all);
-    return;
-  }
+  hapi_nodelet_kit::ParamReader reader(pnh);
+  readFrontendParams(reader, &params_);
+  for (const auto& w : reader.warnings()) NODELET_WARN("%s", w.c_str());
+  if (!reader.ok())
+    return startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(), "invalid parameters",
+                           reader.errors());
   try {
     pipeline_ = std::make_unique<StereoPipeline>(params_.pipeline);
   } catch (const std::exception& ex) {
-    NODELET_FATAL("cannot create the stereo pipeline: %s", ex.what());
-    diag_.setFatal(std::string("pipeline creation failed: ") + ex.what());
-    return;
+    return startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(), "pipeline creation failed",
+                           {ex.what()});
   }
+  stamp_guard_ = std::make_unique<hapi_nodelet_kit::StampGuard>(params_.time_jump_reset);
+  if (!subscribeImages(nh, pnh)) return;
 
+  // Nothing can fail from here on. (The manager runs none of this nodelet's
+  // callbacks before onInit returns, so the order below is free.)
+  startDiagnostics();
   pub_ = pnh.advertise<hapi_msgs::StereoLandmarks>("landmarks", 10);
   worker_ = std::thread(&StereoFrontendNodelet::workerLoop, this);
 
   const uint32_t q = static_cast<uint32_t>(params_.queue_size);
-  it_ = std::make_unique<image_transport::ImageTransport>(nh);
-  // The hint reads ~image_transport (already validated), so "compressed"
-  // subscribes to <image>/compressed through the plugin.
-  const image_transport::TransportHints hints(params_.image_transport, ros::TransportHints(), pnh);
-  try {
-    // Resolve (and so remap) the base topics here: a transport plugin
-    // subscribes to "<base>/compressed", a name the nodelet's remapping of
-    // left/image_raw does not match, so with an unresolved base the compressed
-    // front end listened on /left/image_raw/compressed whatever the launch file
-    // remapped (frontend_inputs.test caught it).
-    left_sub_.subscribe(*it_, nh.resolveName("left/image_raw"), q, hints);
-    right_sub_.subscribe(*it_, nh.resolveName("right/image_raw"), q, hints);
-  } catch (const std::exception& ex) {
-    // pluginlib throws when the transport plugin is not installed (Debian
-    // ships only "raw"; "compressed" needs compressed_image_transport).
-    NODELET_FATAL("cannot subscribe with image transport '%s': %s", params_.image_transport.c_str(), ex.what());
-    diag_.setFatal("image transport '" + params_.image_transport + "' unavailable: " + ex.what());
-    left_sub_.unsubscribe();
-    right_sub_.unsubscribe();
-    return;
-  }
   left_info_sub_.subscribe(nh, "left/camera_info", q);
   right_info_sub_.subscribe(nh, "right/camera_info", q);
   if (params_.approximate_sync) {
@@ -119,9 +86,45 @@ void StereoFrontendNodelet::onInit() {
   NODELET_INFO(
       "stereo front end: detector %s%s, N=%d, %s sync (queue %d), transport '%s'; inputs %s %s %s %s -> %s",
       params_.pipeline.detector.c_str(), params_.pipeline.use_gpu ? " (GPU requested)" : "",
-      params_.pipeline.max_landmarks, params_.approximate_sync ? "approximate" : "exact", params_.queue_size,
+      params_.pipeline.landmarks_per_frame, params_.approximate_sync ? "approximate" : "exact", params_.queue_size,
       params_.image_transport.c_str(), left_sub_.getTopic().c_str(), left_info_sub_.getTopic().c_str(),
       right_sub_.getTopic().c_str(), right_info_sub_.getTopic().c_str(), pub_.getTopic().c_str());
+}
+
+bool StereoFrontendNodelet::subscribeImages(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+  const uint32_t q = static_cast<uint32_t>(params_.queue_size);
+  it_ = std::make_unique<image_transport::ImageTransport>(nh);
+  // The hint reads ~image_transport (already validated), so "compressed"
+  // subscribes to <image>/compressed through the plugin.
+  const image_transport::TransportHints hints(params_.image_transport, ros::TransportHints(), pnh);
+  try {
+    // Resolve (and so remap) the base topics here: a transport plugin
+    // subscribes to "<base>/compressed", a name the nodelet's remapping of
+    // left/image_raw does not match, so with an unresolved base the compressed
+    // front end listened on /left/image_raw/compressed whatever the launch file
+    // remapped (frontend_inputs.test caught it).
+    left_sub_.subscribe(*it_, nh.resolveName("left/image_raw"), q, hints);
+    right_sub_.subscribe(*it_, nh.resolveName("right/image_raw"), q, hints);
+  } catch (const std::exception& ex) {
+    // pluginlib throws when the transport plugin is not installed (Debian
+    // ships only "raw"; "compressed" needs compressed_image_transport).
+    left_sub_.unsubscribe();
+    right_sub_.unsubscribe();
+    startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(),
+                    "image transport '" + params_.image_transport + "' unavailable", {ex.what()});
+    return false;
+  }
+  return true;
+}
+
+void StereoFrontendNodelet::startDiagnostics() {
+  updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), getPrivateNodeHandle(), getName());
+  updater_->setHardwareID(kHardwareId);
+  updater_->add(kStatusName, &diag_, &FrontendDiagnostics::produce);
+  // Wall timer + force_update: diagnostics keep flowing when simulated time
+  // pauses or jumps backwards (bag loops).
+  diag_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(std::max(0.1, updater_->getPeriod())),
+                                                [this](const ros::WallTimerEvent&) { updater_->force_update(); });
 }
 
 void StereoFrontendNodelet::reject(const std::string& reason, const std::string& detail) {
@@ -165,41 +168,26 @@ void StereoFrontendNodelet::onSynced(const sensor_msgs::ImageConstPtr& l, const 
       return;
     }
   }
-  {
-    std::lock_guard<std::mutex> lock(stamp_mutex_);
-    if (!last_stamp_.isZero() && stamp <= last_stamp_) {
-      const double back = (last_stamp_ - stamp).toSec();
-      if (back > params_.max_backwards_jump) {
-        // Bag loop or simulator restart: the front end has no temporal state,
-        // so it restarts cleanly; the back end sees the jump in the stamps.
-        diag_.timeReset();
-        NODELET_WARN("image stamps jumped back by %.3f s: time reset, continuing", back);
-      } else {
-        std::ostringstream os;
-        os << "stamp " << stamp << " not after the previous " << last_stamp_;
-        reject("stamp_not_increasing", os.str());
-        return;
-      }
-    }
-    last_stamp_ = stamp;
+  const hapi_nodelet_kit::StampCheck sc = stamp_guard_->check(static_cast<std::int64_t>(stamp.toNSec()));
+  if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReject) {
+    ros::Time previous;
+    previous.fromNSec(static_cast<uint64_t>(sc.previous_ns));
+    std::ostringstream os;
+    os << "stamp " << stamp << " not after the previous " << previous;
+    reject("stamp_not_increasing", os.str());
+    return;
   }
-  {
-    std::lock_guard<std::mutex> lock(mailbox_mutex_);
-    if (mailbox_) diag_.dropped("busy");  // the worker is behind: newest frame wins
-    mailbox_.reset(new Frame{l, r, li, ri});
+  if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReset) {
+    // Bag loop or simulator restart: the front end has no temporal state,
+    // so it restarts cleanly; the back end sees the jump in the stamps.
+    diag_.timeReset();
+    NODELET_WARN("image stamps jumped back by %.3f s: time reset, continuing", sc.backSec());
   }
-  mailbox_cv_.notify_one();
+  if (mailbox_.put(Frame{l, r, li, ri})) diag_.dropped("busy");  // the worker is behind: newest frame wins
 }
 
 void StereoFrontendNodelet::workerLoop() {
-  for (;;) {
-    std::unique_ptr<Frame> frame;
-    {
-      std::unique_lock<std::mutex> lock(mailbox_mutex_);
-      mailbox_cv_.wait(lock, [this] { return stop_ || mailbox_; });
-      if (stop_) return;
-      frame = std::move(mailbox_);
-    }
+  while (std::optional<Frame> frame = mailbox_.take()) {  // empty once closed
     try {
       processFrame(*frame);
     } catch (const std::exception& ex) {

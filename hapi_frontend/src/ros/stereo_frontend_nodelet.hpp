@@ -2,11 +2,16 @@
 //
 // Threading: the four input subscriptions (left/right image via
 // image_transport, left/right CameraInfo) live on the nodelet manager's
-// multi-threaded queue; their synchronised callback only checks stamps and
-// posts the frame into a one-slot mailbox (newest wins; an overwritten frame
-// is counted as dropped.busy). A worker thread owned by this nodelet runs the
-// pipeline and publishes, so a slow frame never holds a manager thread that
-// other nodelets (the ES-EKF back end) need.
+// multi-threaded queue; their synchronised callback only checks stamps
+// (hapi_nodelet_kit::StampGuard) and posts the frame into a
+// hapi_nodelet_kit::Mailbox (newest wins; an overwritten frame is counted as
+// dropped.busy). A worker thread owned by this nodelet runs the pipeline and
+// publishes, so a slow frame never holds a manager thread that other nodelets
+// (the ES-EKF back end) need.
+//
+// Start-up: invalid parameters, a pipeline that cannot be built or a missing
+// image_transport plugin make it refuse to run (hapi_nodelet_kit::
+// StartupFailure: FATAL log, ERROR on /diagnostics, nothing subscribed).
 #pragma once
 
 #include "frontend_diagnostics.hpp"
@@ -14,6 +19,9 @@
 #include "hapi_frontend/stereo_pipeline.hpp"
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <hapi_nodelet_kit/mailbox.hpp>
+#include <hapi_nodelet_kit/stamp_guard.hpp>
+#include <hapi_nodelet_kit/startup_failure.hpp>
 #include <image_transport/image_transport.h>
 #include <image_transport/subscriber_filter.h>
 #include <message_filters/subscriber.h>
@@ -25,7 +33,6 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
-#include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -50,6 +57,9 @@ class StereoFrontendNodelet : public nodelet::Nodelet {
   };
 
   void onInit() override;
+  // onInit's steps after the parameters; false after a refusal.
+  bool subscribeImages(ros::NodeHandle& nh, ros::NodeHandle& pnh);
+  void startDiagnostics();
   void onSynced(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
                 const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri);
   void onExactDrop(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
@@ -60,8 +70,13 @@ class StereoFrontendNodelet : public nodelet::Nodelet {
   bool updateCalibration(const Info& left, const Info& right);
   void reject(const std::string& reason, const std::string& detail);
 
+  // The diagnostic task's name, shared by the running and the refusing node.
+  static constexpr const char* kStatusName = "stereo front end";
+  static constexpr const char* kHardwareId = "stereo_frontend";
+
   FrontendNodeletParams params_;
   std::unique_ptr<StereoPipeline> pipeline_;
+  hapi_nodelet_kit::StartupFailure startup_{kStatusName, kHardwareId};
   FrontendDiagnostics diag_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::WallTimer diag_timer_;
@@ -73,15 +88,11 @@ class StereoFrontendNodelet : public nodelet::Nodelet {
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
 
-  // Stamp bookkeeping of the synchronised callback.
-  std::mutex stamp_mutex_;
-  ros::Time last_stamp_;
+  // Stamp order of the synchronised callback (~time_jump_reset).
+  std::unique_ptr<hapi_nodelet_kit::StampGuard> stamp_guard_;
 
-  // Mailbox between the synchronised callback and the worker.
-  std::mutex mailbox_mutex_;
-  std::condition_variable mailbox_cv_;
-  std::unique_ptr<Frame> mailbox_;
-  bool stop_ = false;
+  // Between the synchronised callback and the worker.
+  hapi_nodelet_kit::Mailbox<Frame> mailbox_;
   std::thread worker_;
 
   // Per-reason rate limit of the rejection log.

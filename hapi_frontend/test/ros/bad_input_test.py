@@ -152,7 +152,7 @@ class BadInputTest(unittest.TestCase):
         trunc = image(t, self.left)
         trunc.data = trunc.data[: len(trunc.data) // 2]
         self.send(trunc, info(t), image(t, self.right, frame=r_frame), info(t, right=True))
-        # 5. stamp going back (by less than max_backwards_jump: not a time reset)
+        # 5. stamp going back (by less than time_jump_reset: not a time reset)
         self.valid(t - rospy.Duration(0.05))
         # 6. valid frames again: the nodelet must still be working
         for _ in range(3):

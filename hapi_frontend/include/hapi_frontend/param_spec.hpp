@@ -1,0 +1,106 @@
+// The declaration of one front-end setting, written once: its name (the ROS
+// private parameter's name), allowed values, unit and meaning. Its type and
+// default are those of the field it is declared for. A settings struct lists
+// its fields with their declarations in a visit(ParamVisitor&) function; the
+// core's validate() and the nodelet's parameter reader both walk that list, so
+// no range is ever written twice. ROS-free.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace hapi_frontend {
+
+// Allowed values of a number, an interval with open or closed ends. Numbers
+// must also be finite (NaN and inf are never allowed).
+struct NumberRange {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_open = false, max_open = false;
+
+  static NumberRange closed(double lo, double hi) { return {lo, hi, false, false}; }
+  static NumberRange atLeast(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
+  static NumberRange above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, false}; }
+  static NumberRange openClosed(double lo, double hi) { return {lo, hi, true, false}; }
+  static NumberRange open(double lo, double hi) { return {lo, hi, true, true}; }
+
+  bool contains(double v) const;
+  // "in [1, 12]", "in (0, 1]", ">= 0", "> 0"
+  std::string text() const;
+};
+
+struct ParamSpec {
+  const char* name = "";
+  const char* unit = "";  // "" when dimensionless
+  const char* doc = "";
+  NumberRange range;                 // int and double fields
+  std::vector<std::string> choices;  // string fields; empty: any non-empty string
+  // An older name of the same parameter, still accepted with a warning.
+  const char* deprecated_name = nullptr;
+  // true: a core tuning value that is not a ROS parameter (validated, never
+  // read from the parameter server).
+  bool internal = false;
+
+  static ParamSpec number(const char* name, NumberRange range, const char* unit, const char* doc) {
+    ParamSpec s;
+    s.name = name;
+    s.range = range;
+    s.unit = unit;
+    s.doc = doc;
+    return s;
+  }
+  static ParamSpec flag(const char* name, const char* doc) { return number(name, NumberRange(), "", doc); }
+  // choices empty: any non-empty string.
+  static ParamSpec text(const char* name, std::vector<std::string> choices, const char* doc) {
+    ParamSpec s = number(name, NumberRange(), "", doc);
+    s.choices = std::move(choices);
+    return s;
+  }
+  ParamSpec renamedFrom(const char* old_name) const {
+    ParamSpec s = *this;
+    s.deprecated_name = old_name;
+    return s;
+  }
+  ParamSpec coreOnly() const {
+    ParamSpec s = *this;
+    s.internal = true;
+    return s;
+  }
+};
+
+// Empty when `value` is allowed by `spec`, else "<name> must be <allowed>
+// [unit], got <value>".
+std::string checkValue(const ParamSpec& spec, double value);
+std::string checkValue(const ParamSpec& spec, int value);
+std::string checkValue(const ParamSpec& spec, const std::string& value);
+inline std::string checkValue(const ParamSpec&, bool) { return ""; }
+
+// Receives each field of a settings struct with its declaration.
+class ParamVisitor {
+ public:
+  virtual ~ParamVisitor() = default;
+  virtual void visit(const ParamSpec& spec, bool& value) = 0;
+  virtual void visit(const ParamSpec& spec, int& value) = 0;
+  virtual void visit(const ParamSpec& spec, double& value) = 0;
+  virtual void visit(const ParamSpec& spec, std::string& value) = 0;
+};
+
+// Collects the checkValue() message of every field that violates its
+// declaration.
+class RangeChecker : public ParamVisitor {
+ public:
+  void visit(const ParamSpec& spec, bool& value) override { add(checkValue(spec, value)); }
+  void visit(const ParamSpec& spec, int& value) override { add(checkValue(spec, value)); }
+  void visit(const ParamSpec& spec, double& value) override { add(checkValue(spec, value)); }
+  void visit(const ParamSpec& spec, std::string& value) override { add(checkValue(spec, value)); }
+  const std::vector<std::string>& problems() const { return problems_; }
+
+ private:
+  void add(std::string problem) {
+    if (!problem.empty()) problems_.push_back(std::move(problem));
+  }
+  std::vector<std::string> problems_;
+};
+
+}  // namespace hapi_frontend
