@@ -209,15 +209,15 @@ bool measureRankUpdateT(int n, int k, int reps, RankUpdateTiming* out, std::stri
   // Interleaved schedules, so the card is equally hot for each.
   std::vector<double> ts, tg, tr, tu, tz;
   for (int rep = 0; rep < std::max(reps, 1); ++rep) {
-    ts.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kSyrk, n, k, A, ild, C, ld, panel); }, 1));
-    tg.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kPanelGemm, n, k, A, ild, C, ld, panel); }, 1));
-    tr.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kRecursive, n, k, A, ild, C, ld, panel); }, 1));
-    tu.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kRecursive, n, k, A, n, C, n, panel); }, 1));
+    ts.push_back(timeIt([&] { cuda::rankUpdate<T>(h, CudaRankUpdate::kSyrk, n, k, A, ild, C, ld, panel); }, 1));
+    tg.push_back(timeIt([&] { cuda::rankUpdate<T>(h, CudaRankUpdate::kPanelGemm, n, k, A, ild, C, ld, panel); }, 1));
+    tr.push_back(timeIt([&] { cuda::rankUpdate<T>(h, CudaRankUpdate::kRecursive, n, k, A, ild, C, ld, panel); }, 1));
+    tu.push_back(timeIt([&] { cuda::rankUpdate<T>(h, CudaRankUpdate::kRecursive, n, k, A, n, C, n, panel); }, 1));
   }
   // C = 0 last (it destroys the random C; A stays random).
   cudaMemset(C, 0, es * ld * n);
   for (int rep = 0; rep < std::max(reps, 1); ++rep)
-    tz.push_back(timeIt([&] { cuda::rankUpdate<T>(h, cuda::RankUpdate::kRecursive, n, k, A, ild, C, ld, panel); }, 1));
+    tz.push_back(timeIt([&] { cuda::rankUpdate<T>(h, CudaRankUpdate::kRecursive, n, k, A, ild, C, ld, panel); }, 1));
   out->syrk_ms = median(ts);
   out->gemm_ms = median(tg);
   out->recursive_ms = median(tr);

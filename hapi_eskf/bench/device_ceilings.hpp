@@ -20,7 +20,7 @@ struct Ceilings {
 struct RankUpdateTiming {
   bool measured = false;
   // C <- C - A A^T, random A, median of the repetitions, per schedule
-  // (src/cuda/blas_traits.hpp RankUpdate): SYRK, panelled GEMM, recursive.
+  // (src/cuda/blas_traits.hpp rankUpdate): SYRK, panelled GEMM, recursive.
   double syrk_ms = 0, gemm_ms = 0, recursive_ms = 0;
   // Controls of the recursive schedule, interleaved with the above: leading
   // dimension n instead of the padded one, and an all-zero C (power: the

@@ -1,10 +1,14 @@
-// hapi_eskf_bench: per-stage timings of the filter core (issue 3) for a list of
+// hapi_eskf_bench: per-stage timings of the filter core for a list of
 // pool sizes K, CPU reference and CUDA backend in the same run, with the
 // device's measured ceilings and the floor of the C <- C - A A^T step.
 //   hapi_eskf_bench [--k 1000,2000,...] [--iters 50] [--cpu-iters 3]
 //                   [--backend cpu|cuda|both] [--precision fp64|fp32]
 //                   [--cpu-max-k 2000] [--visible 200] [--fresh 20] [--rank-reps 3]
-// Builds and runs without a GPU (CPU rows only).
+//                   [--cuda-rank-update auto|syrk|gemm|recursive]
+//                   [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]
+// The --precision and --cuda-* flags set the EskfSettings fields of the same
+// names (eskf_settings.def) for the CUDA backend (device 0, where the
+// ceilings are measured). Builds and runs without a GPU (CPU rows only).
 #include "device_ceilings.hpp"
 #include "scenario.hpp"
 
@@ -32,7 +36,8 @@ struct Options {
   std::vector<int> ks = {1000, 2000, 4000, 8000, 16000, 32000};
   int iters = 50, cpu_iters = 3, warmup = 3, cpu_warmup = 1;
   bool cpu = true, cuda = true;
-  Precision precision = Precision::kFp64;
+  // precision, cuda_rank_update, cuda_solve, cuda_stage_times.
+  EskfSettings backend;
   int cpu_max_k = 2000;
   int visible = 200, fresh = 20;
   int rank_reps = 3;
@@ -41,7 +46,8 @@ struct Options {
 [[noreturn]] void usage(const char* msg) {
   std::fprintf(stderr,
                "error: %s\nusage: hapi_eskf_bench [--k 1000,2000] [--iters N] [--cpu-iters N] [--backend cpu|cuda|both]\n"
-               "       [--precision fp64|fp32] [--cpu-max-k K] [--visible L] [--fresh M] [--rank-reps N]\n",
+               "       [--precision fp64|fp32] [--cpu-max-k K] [--visible L] [--fresh M] [--rank-reps N]\n"
+               "       [--cuda-rank-update auto|syrk|gemm|recursive] [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]\n",
                msg);
   std::exit(2);
 }
@@ -76,8 +82,13 @@ Options parse(int argc, char** argv) {
       if (v == "cpu") o.cuda = false;
       else if (v == "cuda") o.cpu = false;
       else if (v != "both") usage("--backend must be cpu, cuda or both");
-    } else if (a == "--precision") {
-      if (!parsePrecision(next(), &o.precision)) usage("--precision must be fp64 or fp32");
+    } else if (a == "--precision" || a == "--cuda-rank-update" || a == "--cuda-solve") {
+      std::string field = a.substr(2);  // the settings field of the same name
+      std::replace(field.begin(), field.end(), '-', '_');
+      const std::string e = setFieldFromText(&o.backend, field, next());
+      if (!e.empty()) usage(e.c_str());
+    } else if (a == "--cuda-stage-times") {
+      o.backend.cuda_stage_times = true;
     } else if (a == "--cpu-max-k") {
       o.cpu_max_k = toInt(next(), "--cpu-max-k");
     } else if (a == "--visible") {
@@ -91,6 +102,8 @@ Options parse(int argc, char** argv) {
     }
   }
   if (o.iters < 1 || o.cpu_iters < 1) usage("--iters and --cpu-iters must be >= 1");
+  const std::string bad = o.backend.validate();
+  if (!bad.empty()) usage(bad.c_str());
   for (int k : o.ks)
     if (k < o.visible + o.fresh) usage("every K must be >= visible + fresh");
   return o;
@@ -112,7 +125,7 @@ struct Row {
   double mem_gb = 0;
   double moved = 0;  // landmarks moved into freed slots per removal (median)
   int n_updated = 0;
-  // Medians of the update's device stages (HAPI_ESKF_CUDA_STAGE_TIMES=1, CUDA rows).
+  // Medians of the update's device stages (--cuda-stage-times, CUDA rows).
   std::vector<double> stages;
 };
 
@@ -190,15 +203,15 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress survives a crash or a timeout
   const Options o = parse(argc, argv);
-  const bool fp32 = o.precision == Precision::kFp32;
+  const bool fp32 = o.backend.precision == Precision::kFp32;
   std::printf("hapi_eskf_bench: L = %d visible (update), %d new + %d evicted per iteration, descriptors %d B\n",
               o.visible, o.fresh, o.fresh, Scenario::kDescLen);
   std::printf("stage times are medians over the measured iterations (after %d warm-up on CUDA, %d on CPU), in ms; "
               "total = predict + association + update + removal + addition\n",
               o.warmup, o.cpu_warmup);
-  const char* rv = std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE");
-  const char* sv = std::getenv("HAPI_ESKF_CUDA_SOLVE");
-  std::printf("CUDA variants: rank update %s, solve %s\n", rv ? rv : "by size (default)", sv ? sv : "by size (default)");
+  std::printf("CUDA variants: rank update %s, solve %s (auto = by size, the default); stage times %s\n",
+              valueText(o.backend.cuda_rank_update).c_str(), valueText(o.backend.cuda_solve).c_str(),
+              o.backend.cuda_stage_times ? "on" : "off");
 
   Ceilings ceil;
   std::string why;
@@ -224,10 +237,10 @@ int main(int argc, char** argv) {
       else std::printf("K=%d: isolated rank update not measured: %s\n", K, w.c_str());
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
       std::string err;
-      auto b = cuda::makeCudaBackend(K, Scenario::kDescLen, o.precision, 0, &err);
+      auto b = cuda::makeCudaBackend(K, Scenario::kDescLen, o.backend, &err);
       if (!b) {
         Row r;
-        r.backend = std::string("cuda-") + toString(o.precision);
+        r.backend = std::string("cuda-") + toString(o.backend.precision);
         r.K = K;
         r.note = err;
         rows.push_back(r);
@@ -255,7 +268,7 @@ int main(int argc, char** argv) {
                 r.bookkeeping, r.mem_gb, r.n_updated, r.moved);
   }
 
-  // The update's device stages, where recorded (HAPI_ESKF_CUDA_STAGE_TIMES=1).
+  // The update's device stages, where recorded (--cuda-stage-times).
   bool stage_header = false;
   for (const Row& r : rows) {
     if (r.stages.empty() || !r.ok) continue;

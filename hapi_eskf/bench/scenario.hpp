@@ -1,4 +1,4 @@
-// Synthetic steady-state scenario of the benchmark (issue 3): a full pool of K
+// Synthetic steady-state scenario of the benchmark: a full pool of K
 // landmarks, L = 200 of them seen again per frame plus 20 new measurements, so
 // association, update, eviction (removal of 20) and addition run every
 // iteration. It drives the backend with the filter's own host code

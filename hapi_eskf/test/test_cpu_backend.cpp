@@ -414,7 +414,7 @@ TEST(BackendFactory, CpuAlwaysCudaOnlyWhenAvailable) {
   s.max_landmarks = 100;
   s.backend = BackendKind::kCuda;
   std::string why;
-  if (!cudaBackendAvailable(&why)) {
+  if (!cudaBackendAvailable(s.cuda_device, &why)) {
     EXPECT_FALSE(why.empty());
     err.clear();
     EXPECT_FALSE(makeBackend(s, 32, &err));

@@ -1,6 +1,7 @@
 // Eskf host logic: settings, bad frames (exact no-op), pool policy, reports,
 // prediction entry points and association rules.
 #include "hapi_eskf/association.hpp"
+#include "basic_settings.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "sim_scenario.hpp"
 
@@ -14,7 +15,7 @@ namespace hapi_eskf {
 namespace {
 
 EskfSettings smallSettings() {
-  EskfSettings s;
+  EskfSettings s = testing_settings::basicFilter();
   s.max_landmarks = 60;
   s.max_new_landmarks = 20;
   s.max_update_landmarks = 15;
@@ -98,6 +99,23 @@ TEST(Settings, ValidateNamesTheOffendingFieldAndParsers) {
   EXPECT_STREQ(toString(p), "fp32");
   EXPECT_FALSE(parsePrecision("double", &p));
   EXPECT_STREQ(toString(Status::kNotPositiveDefinite), "covariance not positive definite");
+}
+
+// A filter that never reset successfully says so (kNotInitialised); one
+// without a backend says that (kBackendUnavailable).
+TEST(Eskf, UninitialisedAndBackendlessFiltersSaySo) {
+  EskfSettings s = smallSettings();
+  Eskf mismatch(s, makeCpuBackend(s.max_landmarks + 1, 32));  // capacity != max_landmarks
+  EXPECT_EQ(mismatch.reset(PoseState(), 0.0), Status::kInvalidArgument);
+  EXPECT_EQ(mismatch.predictTo(1.0), Status::kNotInitialised);
+  EXPECT_EQ(mismatch.predictWithGyro(1.0, Vec3::Zero(), 1e-3), Status::kNotInitialised);
+  StereoFrame fr;
+  fr.stamp = 1.0;
+  EXPECT_EQ(mismatch.processFrame(fr), Status::kNotInitialised);
+  Eskf none(s, nullptr);
+  EXPECT_EQ(none.reset(PoseState(), 0.0), Status::kBackendUnavailable);
+  EXPECT_EQ(none.processFrame(fr), Status::kBackendUnavailable);
+  EXPECT_STREQ(toString(Status::kNotInitialised), "not initialised");
 }
 
 TEST(Eskf, BadFramesReturnTheirStatusAndLeaveTheStateExactlyUnchanged) {

@@ -51,7 +51,7 @@ MatX numericJacobian(F f, int n, double eps = 1e-6) {
   return J;
 }
 
-// Relative error as in the brief: max |A - N| / max(1, max |N|).
+// Relative error: max |A - N| / max(1, max |N|).
 double relErr(const MatX& A, const MatX& N) {
   return (A - N).cwiseAbs().maxCoeff() / std::max(1.0, N.cwiseAbs().maxCoeff());
 }

@@ -2,6 +2,7 @@
 // EskfSettings::ransac_iterations): wrong matches that the per-candidate
 // Mahalanobis gate accepts when the predicted pose is uncertain are rejected
 // by the RANSAC rigid fit, correct ones are kept.
+#include "basic_settings.hpp"
 #include "hapi_eskf/association.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/eskf.hpp"
@@ -87,7 +88,7 @@ TEST(Ransac, SettingsValidated) {
 // EskfSettings::measurement_angular_sigma: a new landmark's covariance is the
 // stereo C_z plus (sigma |z|)^2 across the ray, nothing along it.
 TEST(MeasurementModel, RedetectionNoiseAddedAcrossTheRay) {
-  EskfSettings s;
+  EskfSettings s = testing_settings::basicFilter();
   s.max_landmarks = 10;
   s.initial_sigma_position = 1e-9;
   s.initial_sigma_orientation = 1e-9;
@@ -117,7 +118,7 @@ TEST(MeasurementModel, RedetectionNoiseAddedAcrossTheRay) {
 // EskfSettings::bootstrap_landmarks: the frame that finds the pool empty adds
 // up to that many landmarks, later frames at most max_new_landmarks.
 TEST(Bootstrap, EmptyPoolFrameAddsBootstrapCount) {
-  EskfSettings s;
+  EskfSettings s = testing_settings::basicFilter();
   s.max_landmarks = 300;
   s.max_new_landmarks = 10;
   s.max_update_landmarks = 50;
@@ -161,7 +162,7 @@ struct WrongMatchResult {
 };
 
 WrongMatchResult runWrongMatches(int ransac_iterations) {
-  EskfSettings s;
+  EskfSettings s = testing_settings::basicFilter();
   s.max_landmarks = 100;
   s.max_new_landmarks = 50;
   s.max_update_landmarks = 50;

@@ -4,6 +4,7 @@
 // the whole gap and the first update linearises far outside the EKF's range;
 // with it, the velocity mean is zeroed, the frames without a map fit are held
 // back, and the pose mean moves to the RANSAC fit of the first supported frame.
+#include "basic_settings.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "sim_scenario.hpp"
 
@@ -25,7 +26,7 @@ struct OutageRun {
 // `unmapped_s`: after the outage the camera first sees only unmapped points
 // (another world, other descriptors) for this long.
 OutageRun runOutage(double relocalise_gap, double unmapped_s = 0.0) {
-  EskfSettings s;
+  EskfSettings s = testing_settings::basicFilter();
   s.max_landmarks = 500;
   s.max_new_landmarks = 20;
   s.bootstrap_landmarks = 100;

@@ -1,7 +1,8 @@
-// Simulated scenario (issue 3): known trajectory, random points, noisy stereo
+// Simulated scenario: known trajectory, random points, noisy stereo
 // 3D measurements with descriptors. Checks pose accuracy and filter
 // consistency: the average NEES of the 6-dof pose over >= 30 Monte-Carlo runs
 // lies in the 95 % chi^2 interval.
+#include "basic_settings.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "sim_scenario.hpp"
 
@@ -20,7 +21,8 @@ double chi2Quantile(double k, double z) {
 }
 
 EskfSettings scenarioSettings() {
-  EskfSettings s;
+  // C_z is the simulation's true measurement noise: no re-detection term.
+  EskfSettings s = testing_settings::basicFilter();
   s.max_landmarks = 150;
   s.max_new_landmarks = 20;
   s.max_update_landmarks = 30;

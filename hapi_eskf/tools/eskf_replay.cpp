@@ -6,7 +6,9 @@
 //
 //   eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--verbose] [key=value ...]
 //
-// key=value overrides EskfSettings fields (same names as config/eskf.yaml).
+// Without overrides it runs the default EskfSettings, i.e. the tuned filter of
+// config/eskf.yaml. key=value overrides any EskfSettings field (same names as
+// config/eskf.yaml; --help lists them with defaults and ranges).
 // --every k processes every k-th frame (simulates a back end that drops frames).
 // --gap START LEN skips the frames in [START, START+LEN) s after the first
 // one (simulates a front-end outage, e.g. a restart).
@@ -37,31 +39,6 @@ struct Gt {
   Eigen::Quaterniond q;
 };
 
-bool setField(EskfSettings* s, const std::string& k, const std::string& v) {
-  std::map<std::string, int*> ints{{"max_landmarks", &s->max_landmarks},
-                                   {"max_new_landmarks", &s->max_new_landmarks},
-                                   {"max_update_landmarks", &s->max_update_landmarks},
-                                   {"max_hamming", &s->max_hamming},
-                                   {"ransac_iterations", &s->ransac_iterations},
-                                   {"bootstrap_landmarks", &s->bootstrap_landmarks}};
-  std::map<std::string, double*> dbl{{"full_pool_add_fraction", &s->full_pool_add_fraction},
-                                     {"match_ratio", &s->match_ratio},
-                                     {"gate_chi2", &s->gate_chi2},
-                                     {"measurement_angular_sigma", &s->measurement_angular_sigma},
-                                     {"relocalise_gap", &s->relocalise_gap},
-                                     {"velocity_damping", &s->velocity_damping},
-                                     {"angular_velocity_damping", &s->angular_velocity_damping},
-                                     {"sigma_acceleration", &s->sigma_acceleration},
-                                     {"sigma_angular_acceleration", &s->sigma_angular_acceleration},
-                                     {"initial_sigma_position", &s->initial_sigma_position},
-                                     {"initial_sigma_orientation", &s->initial_sigma_orientation},
-                                     {"initial_sigma_velocity", &s->initial_sigma_velocity},
-                                     {"initial_sigma_angular_velocity", &s->initial_sigma_angular_velocity}};
-  if (ints.count(k)) { *ints[k] = std::stoi(v); return true; }
-  if (dbl.count(k)) { *dbl[k] = std::stod(v); return true; }
-  return false;
-}
-
 std::vector<uint8_t> fromHex(const std::string& h) {
   std::vector<uint8_t> out(h.size() / 2);
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<uint8_t>(std::stoi(h.substr(2 * i, 2), nullptr, 16));
@@ -86,8 +63,17 @@ void alignRigid(const std::vector<Vec3>& e, const std::vector<Vec3>& g, Mat3* R,
 }  // namespace
 
 int main(int argc, char** argv) {
+  const char* usage =
+      "usage: eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--gtcheck] [--verbose] [key=value ...]\n"
+      "       eskf_replay --help   (lists the settings key=value may set)\n";
+  if (argc >= 2 && std::string(argv[1]) == "--help") {
+    std::cout << usage << "settings (EskfSettings, config/eskf.yaml):\n";
+    const EskfSettings defaults;
+    forEachField(defaults, [](const FieldInfo& f, const auto& v) { std::cout << "  " << describeField(f, v) << "\n"; });
+    return 0;
+  }
   if (argc < 2) {
-    std::cerr << "usage: eskf_replay FRAMES.txt [--every k] [--verbose] [key=value ...]\n";
+    std::cerr << usage;
     return 1;
   }
   EskfSettings s;
@@ -106,8 +92,13 @@ int main(int argc, char** argv) {
     if (a == "--verbose") { verbose = true; continue; }
     if (a == "--gtcheck") { gtcheck = true; continue; }
     const auto eq = a.find('=');
-    if (eq == std::string::npos || !setField(&s, a.substr(0, eq), a.substr(eq + 1))) {
-      std::cerr << "unknown argument " << a << "\n";
+    if (eq == std::string::npos) {
+      std::cerr << "unknown argument " << a << "\n" << usage;
+      return 1;
+    }
+    const std::string err = setFieldFromText(&s, a.substr(0, eq), a.substr(eq + 1));
+    if (!err.empty()) {
+      std::cerr << err << " (eskf_replay --help lists the settings)\n";
       return 1;
     }
   }

@@ -15,7 +15,6 @@ bash "$REPO/tools/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 
 echo "build ok"
 (cd "$B" && ctest --output-on-failure 2>&1) >"$OUT/ctest.log"; tail -15 "$OUT/ctest.log"
 BENCH="$B/hapi_eskf/bench/hapi_eskf_bench"
-export HAPI_ESKF_CUDA_STAGE_TIMES=1
 smi() {  # clocks, temperature, power and throttle reasons between the runs
   nvidia-smi --query-gpu=clocks.sm,clocks.mem,temperature.gpu,power.draw,clocks_event_reasons.active \
     --format=csv,noheader | sed "s|^|[$1] |" | tee -a "$OUT/smi.log"
@@ -24,7 +23,7 @@ smi "before the table"
 # The table: defaults (by-size choice), every K, CPU rows where the Eigen
 # reference is affordable, the isolated rank update with its controls.
 "$BENCH" --k 1000,2000,4000,8000,16000,32000 --iters 50 --cpu-iters 5 --cpu-max-k 2000 --backend both \
-  >"$OUT/bench_table.log" 2>&1
+  --cuda-stage-times >"$OUT/bench_table.log" 2>&1
 smi "after the table"
 # In-filter A/B at the target sizes: the defaults against the previous
 # defaults (panelled GEMM + TRSM), alternated so that drift of the card's
@@ -33,8 +32,8 @@ for round in 1 2; do
   for v in "auto auto" "gemm trsm"; do
     set -- $v
     echo "=== round $round: rank update $1, solve $2" >>"$OUT/bench_ab.log"
-    HAPI_ESKF_CUDA_RANK_UPDATE=$1 HAPI_ESKF_CUDA_SOLVE=$2 "$BENCH" --k 8000,32000 --iters 30 --backend cuda \
-      --rank-reps 1 >>"$OUT/bench_ab.log" 2>&1
+    "$BENCH" --cuda-rank-update "$1" --cuda-solve "$2" --k 8000,32000 --iters 30 --backend cuda \
+      --rank-reps 1 --cuda-stage-times >>"$OUT/bench_ab.log" 2>&1
     smi "after round $round $1/$2"
   done
 done

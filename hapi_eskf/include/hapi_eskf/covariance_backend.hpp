@@ -13,6 +13,16 @@
 //  * every call completes before it returns (timings taken around a call are
 //    honest, also on the GPU), and a call that returns anything but kOk has
 //    left C and the descriptors unchanged.
+//
+// Input checks: the public methods are non-virtual. Each validates its inputs
+// (src/core/covariance_backend.cpp, the Status for each fault documented
+// below, checked in the order listed), answers the trivial cases (nothing to
+// add, remove or match) itself, and only then calls the implementation's
+// protected do*() method. So both backends reject the same inputs with the
+// same Status before either touches its storage, and an implementation may
+// assume valid, non-trivial input. Failures found during the computation (S
+// not positive definite, a non-finite result, a device error) are the
+// implementation's to report.
 #pragma once
 
 #include "hapi_eskf/settings.hpp"
@@ -63,44 +73,72 @@ class CovarianceBackend {
   virtual int descriptorLength() const = 0;  // bytes; fixed at construction
   virtual std::size_t memoryBytes() const = 0;  // C + work buffers + descriptors
 
-  // K := 0 and C := C_pose (12 x 12, symmetric PD).
-  virtual Status reset(const Mat12& C_pose) = 0;
+  // K := 0 and C := C_pose (12 x 12). kNonFinite, kInvalidArgument (not
+  // symmetric), kNotPositiveDefinite (covariance_checks.hpp).
+  Status reset(const Mat12& C_pose);
 
   // C_pp <- F C_pp F^T + Q, C_pm <- F C_pm (pose rows/columns only, O(K)).
-  virtual Status predict(const Mat12& F, const Mat12& Q) = 0;
+  // kNonFinite for a non-finite F or Q.
+  Status predict(const Mat12& F, const Mat12& Q);
 
-  // Marginal covariance of [dp, dtheta, dm_slot] (9 x 9) for each slot: the
-  // host builds S_j = H_j M_j H_j^T + R_j from it for Mahalanobis gating.
-  virtual Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const = 0;
+  // Marginal covariance of [dp, dtheta, dm_slot] (9 x 9) for each slot (a
+  // slot may repeat): the host builds S_j = H_j M_j H_j^T + R_j from it for
+  // Mahalanobis gating. kInvalidArgument for a null `out` or a slot outside
+  // [0, K).
+  Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const;
 
   // Joint update with all blocks (DESIGN.md steps 1-4): P = C H^T by gather,
   // S = H P + R, Cholesky S = L L^T, A = P L^-T, y = L^-1 innovation,
   // dx = A y (returned, length stateDim(K)), C <- C - A A^T.
-  // Distinct slots required. On a non-PD S: kNotPositiveDefinite, C unchanged.
-  // nis (optional) receives innovation^T S^-1 innovation = |y|^2.
-  virtual Status update(const std::vector<MeasurementBlock>& blocks, Eigen::VectorXd* dx,
-                        double* nis = nullptr) = 0;
+  // Input: kEmptyInput (no blocks), kInvalidArgument (null dx),
+  // kCapacityExceeded (more blocks than K), then per block kInvalidArgument
+  // (slot outside [0, K)), kDuplicateId (slot used twice), kNonFinite.
+  // Computation: kNonFinite or kNotPositiveDefinite (S not PD or numerically
+  // singular), C unchanged. nis (optional) receives
+  // innovation^T S^-1 innovation = |y|^2.
+  Status update(const std::vector<MeasurementBlock>& blocks, Eigen::VectorXd* dx, double* nis = nullptr);
 
   // Appends landmarks at slots K..K+m-1 with their full cross-covariance:
   // C_new,x = G_pose C_[dp dtheta],x ; C_new,new = G_pose C_pp G_pose^T + G_z Cz G_z^T
   // (and G_i C_pp G_j^T between two new landmarks). O(n) per landmark.
-  virtual Status addLandmarks(const std::vector<NewLandmarkBlock>& blocks) = 0;
+  // No blocks: kOk, nothing done. kCapacityExceeded (K + m > capacity), then
+  // per block kNonFinite, kNotPositiveDefinite (Cz not a covariance),
+  // kInvalidArgument (no descriptor while descriptorLength() > 0).
+  Status addLandmarks(const std::vector<NewLandmarkBlock>& blocks);
 
   // Removes the given slots (distinct, valid, any order). Slots stay dense:
   // the kept landmarks at slots >= K - r fill the removed slots below K - r
   // (removal_plan.hpp, "fill holes from the tail"); every other landmark keeps
   // its slot and its rows/columns of C bit for bit. O(n) per moved landmark.
-  virtual Status removeLandmarks(const std::vector<int>& slots) = 0;
+  // No slots: kOk, nothing done. kInvalidArgument (slot outside [0, K)),
+  // kDuplicateId.
+  Status removeLandmarks(const std::vector<int>& slots);
 
   // Hamming matching of query descriptors (n_query * descriptorLength() bytes)
-  // against every pool descriptor.
-  virtual Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const = 0;
+  // against every pool descriptor. kInvalidArgument for a null `out`, a
+  // negative n_query or null queries with n_query > 0. With nothing to
+  // compare (no query, no landmark, descriptorLength() 0) every match is
+  // empty (slots -1).
+  Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const;
 
   // Read-back for tests, the map and diagnostics (not used in the filter loop).
   virtual Mat12 poseCovariance() const = 0;
   virtual std::vector<Mat3> landmarkCovariances() const = 0;  // K marginal 3x3 blocks
   virtual Eigen::MatrixXd denseCovariance() const = 0;        // symmetrised n x n
   virtual std::vector<uint8_t> descriptors() const = 0;      // K * descriptorLength()
+
+ protected:
+  // The implementations, called with checked, non-trivial input only: at
+  // least one block or slot, every slot in [0, K); for marginals `out` is
+  // already sized, for matchDescriptors `out` holds n_query empty matches
+  // and n_query, K and descriptorLength() are all > 0.
+  virtual Status doReset(const Mat12& C_pose) = 0;
+  virtual Status doPredict(const Mat12& F, const Mat12& Q) = 0;
+  virtual Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const = 0;
+  virtual Status doUpdate(const std::vector<MeasurementBlock>& blocks, Eigen::VectorXd* dx, double* nis) = 0;
+  virtual Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) = 0;
+  virtual Status doRemoveLandmarks(const std::vector<int>& slots) = 0;
+  virtual Status doMatchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const = 0;
 };
 
 // Eigen reference backend. Always available.
@@ -110,7 +148,13 @@ std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_l
 // created, e.g. CUDA not compiled in or no device.
 std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descriptor_length, std::string* error);
 
-// True when the CUDA backend is compiled in and a device is usable; *why says why not.
+// True when the CUDA backend is compiled in and CUDA device `device` (the
+// cuda_device setting) is usable. *why names the device and either describes
+// it or says why it cannot be used.
+bool cudaBackendAvailable(int device, std::string* why);
+// Device 0 only. Callers with settings must pass their cuda_device instead;
+// kept until the nodelet's start-up check does.
+[[deprecated("pass the configured device: cudaBackendAvailable(settings.cuda_device, why)")]]
 bool cudaBackendAvailable(std::string* why);
 
 }  // namespace hapi_eskf

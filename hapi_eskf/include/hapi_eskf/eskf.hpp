@@ -25,7 +25,10 @@ class Eskf {
   Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend);
 
   // Clears the pool; the pose starts at `initial` with the initial sigmas of
-  // the settings. The next frame must have stamp >= `stamp`.
+  // the settings. The next frame must have stamp >= `stamp`. The constructor
+  // resets to the identity pose at 0; until a reset succeeds (invalid
+  // settings, backend capacity != max_landmarks) every other operation
+  // returns kNotInitialised (kBackendUnavailable without a backend).
   Status reset(const PoseState& initial, double stamp);
 
   // Constant-velocity prediction to `stamp` (no-op when stamp == current).
@@ -34,7 +37,8 @@ class Eskf {
 
   // Prediction driven by a gyro sample (camera-frame angular rate [rad/s] with
   // its noise density sigma [rad/s/sqrt(Hz)]): w is replaced by the
-  // measurement for the step, then the constant-velocity step runs.
+  // measurement for the step, then the constant-velocity step runs
+  // (gyro_prediction.hpp: kNonFinite, kInvalidArgument, state unchanged).
   Status predictWithGyro(double stamp, const Vec3& gyro_camera, double sigma_gyro);
 
   // One filter iteration. On any input error (kNonFinite, kDuplicateId,

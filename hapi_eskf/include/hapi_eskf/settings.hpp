@@ -1,13 +1,43 @@
-// Filter settings. Field names are the ROS parameter names used by the
-// nodelet (config/eskf.yaml), so a user sees one vocabulary everywhere.
+// Filter settings. The fields, their defaults, ranges, units and one-line docs
+// are declared once, in eskf_settings.def (see field_table.hpp for why); this
+// header generates the struct and the visitor from that list. Field names are
+// the ROS parameter names used by the nodelet (config/eskf.yaml), so a user
+// sees one vocabulary everywhere.
 #pragma once
 
+#include "hapi_eskf/field_table.hpp"
+
 #include <string>
+#include <type_traits>
 
 namespace hapi_eskf {
 
 enum class BackendKind { kCpu, kCuda };
 enum class Precision { kFp64, kFp32 };  // storage/compute precision of C (CUDA backend)
+// CUDA backend variants (src/cuda/blas_traits.hpp): kAuto chooses by size.
+enum class CudaRankUpdate { kAuto, kSyrk, kPanelGemm, kRecursive };
+enum class CudaSolve { kAuto, kTrsm, kInverse };
+
+template <>
+struct EnumNames<BackendKind> {
+  static constexpr EnumName<BackendKind> kNames[] = {{BackendKind::kCpu, "cpu"}, {BackendKind::kCuda, "cuda"}};
+};
+template <>
+struct EnumNames<Precision> {
+  static constexpr EnumName<Precision> kNames[] = {{Precision::kFp64, "fp64"}, {Precision::kFp32, "fp32"}};
+};
+template <>
+struct EnumNames<CudaRankUpdate> {
+  static constexpr EnumName<CudaRankUpdate> kNames[] = {{CudaRankUpdate::kAuto, "auto"},
+                                                        {CudaRankUpdate::kSyrk, "syrk"},
+                                                        {CudaRankUpdate::kPanelGemm, "gemm"},
+                                                        {CudaRankUpdate::kRecursive, "recursive"}};
+};
+template <>
+struct EnumNames<CudaSolve> {
+  static constexpr EnumName<CudaSolve> kNames[] = {
+      {CudaSolve::kAuto, "auto"}, {CudaSolve::kTrsm, "trsm"}, {CudaSolve::kInverse, "inverse"}};
+};
 
 // Smallest RANSAC inlier set that may relocalise the pose (relocalise_gap):
 // 12 pairs pin 6 dof with a wide margin against a chance fit of wrong matches.
@@ -19,68 +49,30 @@ constexpr int kRelocaliseMinInliers = 6;
 constexpr double kRelocaliseWaitS = 2.0;
 
 struct EskfSettings {
-  // --- pool and per-iteration sizes (issue 3) ---
-  int max_landmarks = 2000;          // K_max: capacity of the landmark pool
-  int max_new_landmarks = 20;        // landmarks initialised per iteration
-  int bootstrap_landmarks = 0;       // landmarks initialised by a frame that finds the pool
-                                     // empty (start, reset): one well-spread base map instead
-                                     // of max_new_landmarks per frame over the first frames.
-                                     // 0 = max_new_landmarks (no special case)
-  int max_update_landmarks = 200;    // old landmarks used per update (L)
-  int max_frame_measurements = 4000;  // a frame with more measurements is rejected
-                                      // (kCapacityExceeded): bounds the per-frame work
-  double full_pool_add_fraction = 0.5;  // when the pool is full: evict so this fraction
-                                        // of max_new_landmarks can still be added
-  BackendKind backend = BackendKind::kCpu;
-  Precision precision = Precision::kFp64;
-  int cuda_device = 0;
+#define HAPI_FIELD(type, name, default_value, range, unit, doc) type name = default_value;
+#include "hapi_eskf/eskf_settings.def"
+#undef HAPI_FIELD
 
-  // --- association (DESIGN.md "Gate each association") ---
-  int max_hamming = 64;          // descriptor distance accepted as a candidate
-  double match_ratio = 0.8;      // best / second-best Hamming ratio test
-  double gate_chi2 = 11.345;     // Mahalanobis gate, chi^2(3) at 99 %
-  // Geometric consistency of the descriptor candidates before gating: a
-  // RANSAC rigid fit world <- camera on the 3D-3D pairs (landmark, stereo
-  // point), 3-point samples, this many hypotheses (deterministic seed); pairs
-  // off the best fit (Mahalanobis > gate_chi2 with the landmark's marginal
-  // plus R C_z R^T) are rejected. Catches wrong descriptor matches that the
-  // per-candidate gate lets through when the predicted pose is uncertain
-  // (large inter-frame motion). 0 = off; used only with >= 6 candidates.
-  int ransac_iterations = 0;
-  // Relocalisation after an outage [s]: when the previous frame is older than
-  // this (front end restarted, link down), the motion model is not trusted:
-  // the velocity mean is zeroed before the prediction (the covariance still
-  // grows by the process noise), and the pose mean is moved to the RANSAC
-  // rigid fit of the frame against the map (>= kRelocaliseMinInliers pairs)
-  // before gating and the update, so the update linearises at a pose the map
-  // supports instead of at a long extrapolation (rotation errors of that size
-  // are far outside the EKF's linear range and made the filter run away).
-  // Only the means move; the covariance stays the conservative predicted one.
-  // Needs ransac_iterations > 0 for the pose part; 0 = off.
-  double relocalise_gap = 0.0;
-  // --- measurement model ---
-  // Re-detection noise [rad, 1 sigma] of a keypoint from frame to frame,
-  // perpendicular to the viewing ray: the front end's covariance describes one
-  // stereo pair (left/right refined against each other), but the detector does
-  // not find exactly the same physical point in the next frame. Added to every
-  // C_z as (sigma * |z|)^2 (I - r r^T), r = z / |z|. 0 = trust C_z as it is.
-  double measurement_angular_sigma = 0.0;
-
-  // --- motion model (DESIGN.md "Predict") ---
-  double velocity_damping = 1.0;          // Gamma: v <- Gamma v per second (1 = none)
-  double angular_velocity_damping = 1.0;  // Lambda: w <- Lambda w per second
-  double sigma_acceleration = 0.5;        // [m/s^2/sqrt(Hz)] random-walk on v
-  double sigma_angular_acceleration = 0.5;  // [rad/s^2/sqrt(Hz)] random-walk on w
-
-  // --- initial uncertainty of the first pose (the world frame is the first camera) ---
-  double initial_sigma_position = 1e-3;   // [m]
-  double initial_sigma_orientation = 1e-3;  // [rad]
-  double initial_sigma_velocity = 0.2;    // [m/s]
-  double initial_sigma_angular_velocity = 0.5;  // [rad/s]
-
-  // Empty when valid, else a message naming the offending field and its range.
+  // Empty when valid, else a message naming the offending field and its
+  // range: every field against its table range, then the rules between
+  // fields (max_new_landmarks and bootstrap_landmarks <= max_landmarks).
   std::string validate() const;
 };
+
+// Calls visit(const FieldInfo&, field) for every field of `s` in table order;
+// the field is `const T&` or `T&` as `s` is const or not.
+template <typename Settings, typename Visitor,
+          typename = std::enable_if_t<std::is_same<std::remove_const_t<Settings>, EskfSettings>::value>>
+void forEachField(Settings& s, Visitor&& visit) {
+#define HAPI_FIELD(type, name, default_value, range, unit, doc) visit(FieldInfo{#name, range, unit, doc}, s.name);
+#include "hapi_eskf/eskf_settings.def"
+#undef HAPI_FIELD
+}
+
+// Sets the field called `name` from its text form (tool command lines,
+// "ransac_iterations=0"). Empty on success, else why not (unknown name,
+// unparsable value); the range is checked by validate(), not here.
+std::string setFieldFromText(EskfSettings* s, const std::string& name, const std::string& value);
 
 const char* toString(BackendKind b);
 const char* toString(Precision p);

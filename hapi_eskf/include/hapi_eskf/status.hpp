@@ -1,6 +1,6 @@
 // Result codes of every filter operation. The filter never throws on bad
 // input: it returns one of these and leaves its state unchanged, so the ROS
-// layer can count and report the rejection (brief: "never corrupts the filter").
+// layer can count and report the rejection without the filter being corrupted.
 #pragma once
 
 namespace hapi_eskf {
@@ -13,7 +13,10 @@ enum class Status : int {
   kCapacityExceeded,     // more landmarks / measurements than the configured capacity
   kNotPositiveDefinite,  // innovation covariance S (or a measurement covariance) not PD
   kInvalidArgument,      // bad index, bad size, negative dt, inconsistent lengths ...
-  kBackendUnavailable,   // e.g. CUDA requested but no device / not compiled
+  kNotInitialised,       // no valid state yet: the filter was never reset successfully
+                         // (invalid settings, backend capacity mismatch) or a pose copy
+                         // was never based on the filter
+  kBackendUnavailable,   // no backend: none given, CUDA requested but no device / not compiled
   kBackendError,         // a CUDA / cuBLAS / cuSOLVER call failed
 };
 

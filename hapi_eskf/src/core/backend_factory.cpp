@@ -8,17 +8,21 @@
 
 namespace hapi_eskf {
 
-bool cudaBackendAvailable(std::string* why) {
+bool cudaBackendAvailable(int device, std::string* why) {
 #ifdef HAPI_ESKF_WITH_CUDA
   std::string info;
-  const bool ok = cuda::deviceAvailable(0, &info);
+  const bool ok = cuda::deviceAvailable(device, &info);
   if (why) *why = info;
   return ok;
 #else
-  if (why) *why = "hapi_eskf was built without CUDA (HAPI_WITH_CUDA=OFF or nvcc not found)";
+  if (why)
+    *why = "CUDA device " + std::to_string(device) +
+           ": hapi_eskf was built without CUDA (HAPI_WITH_CUDA=OFF or nvcc not found)";
   return false;
 #endif
 }
+
+bool cudaBackendAvailable(std::string* why) { return cudaBackendAvailable(0, why); }
 
 std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descriptor_length, std::string* error) {
   const std::string bad = s.validate();
@@ -39,7 +43,7 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
   }
 #ifdef HAPI_ESKF_WITH_CUDA
   std::string err;
-  auto b = cuda::makeCudaBackend(s.max_landmarks, descriptor_length, s.precision, s.cuda_device, &err);
+  auto b = cuda::makeCudaBackend(s.max_landmarks, descriptor_length, s, &err);
   if (!b && error) *error = err.empty() ? std::string("cuda backend creation failed") : err;
   return b;
 #else

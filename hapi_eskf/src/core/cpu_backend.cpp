@@ -2,9 +2,12 @@
 // Storage: one capacity-sized column-major buffer (N = 12 + 3*capacity square);
 // the live state is its top-left n x n corner, landmarks in contiguous slots,
 // and only the LOWER triangle of that corner is authoritative (the SYRK-style
-// rank update writes just that triangle). Every method validates all inputs
-// before touching C, so an error return leaves the state bit-for-bit unchanged.
+// rank update writes just that triangle). The inputs arrive checked
+// (CovarianceBackend's public methods, src/core/covariance_backend.cpp); the
+// failures found while computing are returned before C is touched, so an
+// error return leaves the state bit-for-bit unchanged.
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/removal_plan.hpp"
 
 #include <Eigen/Cholesky>
@@ -18,19 +21,6 @@ namespace {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-template <typename Derived>
-bool allFinite(const Eigen::MatrixBase<Derived>& m) {
-  return m.allFinite();
-}
-
-// Symmetric, finite and positive definite (Cholesky succeeds).
-bool symmetricPd(const Mat3& M) {
-  if (!M.allFinite()) return false;
-  if (((M - M.transpose()).cwiseAbs().maxCoeff()) > 1e-9 * (1.0 + M.cwiseAbs().maxCoeff())) return false;
-  Eigen::LLT<Mat3> llt(M);
-  return llt.info() == Eigen::Success;
-}
 
 int popcount64(uint64_t x) { return __builtin_popcountll(x); }
 
@@ -51,24 +41,35 @@ class CpuBackend final : public CovarianceBackend {
     return sizeof(double) * static_cast<std::size_t>(N_) * N_ + desc_.size();
   }
 
-  Status reset(const Mat12& C_pose) override {
-    if (!C_pose.allFinite()) return Status::kNonFinite;
-    if ((C_pose - C_pose.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C_pose.cwiseAbs().maxCoeff()))
-      return Status::kInvalidArgument;
-    Eigen::LLT<Mat12> llt(C_pose);
-    if (llt.info() != Eigen::Success) return Status::kNotPositiveDefinite;
+  Mat12 poseCovariance() const override { return symPose(); }
+
+  std::vector<Mat3> landmarkCovariances() const override {
+    std::vector<Mat3> out(K_);
+    for (int k = 0; k < K_; ++k) out[k] = symBlock3(landmarkRow(k));
+    return out;
+  }
+
+  MatrixXd denseCovariance() const override {
+    const int n = dim();
+    MatrixXd D = C_.topLeftCorner(n, n).triangularView<Eigen::Lower>();
+    D.triangularView<Eigen::StrictlyUpper>() = D.transpose().triangularView<Eigen::StrictlyUpper>();
+    return D;
+  }
+
+  std::vector<uint8_t> descriptors() const override {
+    return std::vector<uint8_t>(desc_.begin(), desc_.begin() + static_cast<std::size_t>(K_) * desc_len_);
+  }
+
+ protected:
+  Status doReset(const Mat12& C_pose) override {
     K_ = 0;
     C_.topLeftCorner<kPoseDim, kPoseDim>() = C_pose;
     return Status::kOk;
   }
 
-  Status predict(const Mat12& F, const Mat12& Q) override {
-    if (!F.allFinite() || !Q.allFinite()) return Status::kNonFinite;
+  Status doPredict(const Mat12& F, const Mat12& Q) override {
     const int n = dim();
-    const Mat12 Cpp = symPose();
-    Mat12 Cn = F * Cpp * F.transpose() + Q;
-    Cn = 0.5 * (Cn + Cn.transpose());
-    C_.topLeftCorner<kPoseDim, kPoseDim>() = Cn;
+    C_.topLeftCorner<kPoseDim, kPoseDim>() = predictPoseCovariance(symPose(), F, Q);
     if (n > kPoseDim) {
       // C_mp (stored in the lower triangle, rows 12..n) <- C_mp F^T: O(K).
       auto Cmp = C_.block(kPoseDim, 0, n - kPoseDim, kPoseDim);
@@ -78,11 +79,7 @@ class CpuBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
-    if (!out) return Status::kInvalidArgument;
-    for (int s : slots)
-      if (s < 0 || s >= K_) return Status::kInvalidArgument;
-    out->resize(slots.size());
+  Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
     const Mat12 Cpp = symPose();
     for (std::size_t i = 0; i < slots.size(); ++i) {
       const int r = landmarkRow(slots[i]);
@@ -95,20 +92,7 @@ class CpuBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  Status update(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
-    if (blocks.empty()) return Status::kEmptyInput;
-    if (!dx) return Status::kInvalidArgument;
-    if (static_cast<int>(blocks.size()) > K_) return Status::kCapacityExceeded;
-    {
-      std::vector<char> used(K_, 0);
-      for (const auto& b : blocks) {
-        if (b.slot < 0 || b.slot >= K_) return Status::kInvalidArgument;
-        if (used[b.slot]) return Status::kDuplicateId;
-        used[b.slot] = 1;
-        if (!b.H_pose.allFinite() || !b.H_landmark.allFinite() || !b.R.allFinite() || !b.innovation.allFinite())
-          return Status::kNonFinite;
-      }
-    }
+  Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
     const int n = dim();
     const int L = static_cast<int>(blocks.size());
     const int m = 3 * L;
@@ -158,14 +142,7 @@ class CpuBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  Status addLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
-    if (blocks.empty()) return Status::kOk;
-    if (K_ + static_cast<int>(blocks.size()) > capacity_) return Status::kCapacityExceeded;
-    for (const auto& b : blocks) {
-      if (!b.G_pose.allFinite() || !b.G_z.allFinite() || !b.Cz.allFinite()) return Status::kNonFinite;
-      if (!symmetricPd(b.Cz)) return Status::kNotPositiveDefinite;
-      if (desc_len_ > 0 && b.descriptor == nullptr) return Status::kInvalidArgument;
-    }
+  Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
     const int n = dim();
     // Rows [dp, dtheta] of the old state, as columns (n x 6), from before the addition.
     const MatrixXd Cx6 = gatherColumns(0, 6, n);
@@ -192,14 +169,7 @@ class CpuBackend final : public CovarianceBackend {
   // and columns are copied into its new slot, nothing else moves. Every source
   // element has an index >= n_new (the movers sit in slots >= K - r) and every
   // destination both indices < n_new, so the copies cannot overwrite a source.
-  Status removeLandmarks(const std::vector<int>& slots) override {
-    if (slots.empty()) return Status::kOk;
-    std::vector<char> drop(K_, 0);
-    for (int s : slots) {
-      if (s < 0 || s >= K_) return Status::kInvalidArgument;
-      if (drop[s]) return Status::kDuplicateId;
-      drop[s] = 1;
-    }
+  Status doRemoveLandmarks(const std::vector<int>& slots) override {
     const int K_new = K_ - static_cast<int>(slots.size());
     const int n_new = stateDim(K_new);
     const std::vector<SlotMove> moves = tailFillMoves(K_, slots);
@@ -221,11 +191,7 @@ class CpuBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const override {
-    if (!out || n_query < 0) return Status::kInvalidArgument;
-    if (n_query > 0 && !queries) return Status::kInvalidArgument;
-    out->assign(n_query, DescriptorMatch{});
-    if (desc_len_ == 0 || K_ == 0) return Status::kOk;
+  Status doMatchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const override {
     const int words = desc_len_ / 8, tail = desc_len_ % 8;
     for (int q = 0; q < n_query; ++q) {
       const uint8_t* a = queries + static_cast<std::size_t>(q) * desc_len_;
@@ -252,25 +218,6 @@ class CpuBackend final : public CovarianceBackend {
       }
     }
     return Status::kOk;
-  }
-
-  Mat12 poseCovariance() const override { return symPose(); }
-
-  std::vector<Mat3> landmarkCovariances() const override {
-    std::vector<Mat3> out(K_);
-    for (int k = 0; k < K_; ++k) out[k] = symBlock3(landmarkRow(k));
-    return out;
-  }
-
-  MatrixXd denseCovariance() const override {
-    const int n = dim();
-    MatrixXd D = C_.topLeftCorner(n, n).triangularView<Eigen::Lower>();
-    D.triangularView<Eigen::StrictlyUpper>() = D.transpose().triangularView<Eigen::StrictlyUpper>();
-    return D;
-  }
-
-  std::vector<uint8_t> descriptors() const override {
-    return std::vector<uint8_t>(desc_.begin(), desc_.begin() + static_cast<std::size_t>(K_) * desc_len_);
   }
 
  private:

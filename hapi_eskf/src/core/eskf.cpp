@@ -25,10 +25,10 @@
 #include "hapi_eskf/eskf.hpp"
 
 #include "hapi_eskf/association.hpp"
+#include "hapi_eskf/covariance_checks.hpp"
+#include "hapi_eskf/gyro_prediction.hpp"
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/removal_plan.hpp"
-
-#include <Eigen/Cholesky>
 
 #include <algorithm>
 #include <chrono>
@@ -87,7 +87,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
 }
 
 Status Eskf::predictTo(double stamp) {
-  if (!initialised_) return Status::kBackendUnavailable;
+  if (!initialised_) return Status::kNotInitialised;
   if (!std::isfinite(stamp)) return Status::kNonFinite;
   if (stamp < time_) return Status::kInvalidArgument;
   const double dt = stamp - time_;
@@ -99,21 +99,11 @@ Status Eskf::predictTo(double stamp) {
   return Status::kOk;
 }
 
-// w <- gyro for the step (jacobians.hpp gyroStep), one backend call.
+// w <- gyro for the step (gyro_prediction.hpp), one backend call.
 Status Eskf::predictWithGyro(double stamp, const Vec3& gyro_camera, double sigma_gyro) {
-  if (!initialised_) return Status::kBackendUnavailable;
-  if (!std::isfinite(stamp) || !gyro_camera.allFinite() || !std::isfinite(sigma_gyro)) return Status::kNonFinite;
-  if (stamp < time_ || !(sigma_gyro > 0.0)) return Status::kInvalidArgument;
-  const double dt = stamp - time_;
-  if (dt == 0.0) return Status::kOk;
-  PoseState next;
-  Mat12 F, Q;
-  gyroStep(pose_, gyro_camera, sigma_gyro, dt, settings_, &next, &F, &Q);
-  const Status st = backend_->predict(F, Q);
-  if (st != Status::kOk) return st;
-  pose_ = next;
-  time_ = stamp;
-  return Status::kOk;
+  if (!initialised_) return Status::kNotInitialised;
+  return predictWithGyroStep(&pose_, &time_, stamp, gyro_camera, sigma_gyro, settings_,
+                             [this](const Mat12& F, const Mat12& Q) { return backend_->predict(F, Q); });
 }
 
 Mat12 Eskf::poseCovariance() const { return backend_ ? backend_->poseCovariance() : Mat12::Zero(); }
@@ -148,12 +138,8 @@ Status Eskf::checkFrame(const StereoFrame& frame) const {
     if (!m.z.allFinite() || !m.Cz.allFinite() || !std::isfinite(m.response)) return Status::kNonFinite;
     if (!seen.insert(m.frontend_id).second) return Status::kDuplicateId;
   }
-  for (const auto& m : frame.measurements) {
-    const double scale = 1.0 + m.Cz.cwiseAbs().maxCoeff();
-    if ((m.Cz - m.Cz.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) return Status::kNotPositiveDefinite;
-    Eigen::LLT<Mat3> llt(m.Cz);
-    if (llt.info() != Eigen::Success) return Status::kNotPositiveDefinite;
-  }
+  for (const auto& m : frame.measurements)
+    if (!isSymmetricPositiveDefinite(m.Cz)) return Status::kNotPositiveDefinite;
   return Status::kOk;
 }
 
@@ -176,7 +162,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     return s;
   };
   if (!backend_) return finish(Status::kBackendUnavailable);
-  if (!initialised_) return finish(Status::kBackendUnavailable);
+  if (!initialised_) return finish(Status::kNotInitialised);
   // Everything that can be wrong with the input is found here, before any change.
   Status st = checkFrame(frame_in);
   if (st != Status::kOk) return finish(st);

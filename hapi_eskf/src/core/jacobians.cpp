@@ -62,6 +62,11 @@ void gyroStep(const PoseState& x, const Vec3& gyro_camera, double sigma_gyro, do
   *next = predictPose(xg, dt, s);
 }
 
+Mat12 predictPoseCovariance(const Mat12& C, const Mat12& F, const Mat12& Q) {
+  const Mat12 Cn = F * C * F.transpose() + Q;
+  return 0.5 * (Cn + Cn.transpose());
+}
+
 Mat12 processNoise(double dt, const EskfSettings& s) {
   Mat12 Q = Mat12::Zero();
   Q.block<3, 3>(kIdxV, kIdxV).diagonal().setConstant(s.sigma_acceleration * s.sigma_acceleration * dt);

@@ -1,3 +1,4 @@
+// Text of every Status (diagnostics, tools, test messages).
 #include "hapi_eskf/status.hpp"
 
 namespace hapi_eskf {
@@ -11,6 +12,7 @@ const char* toString(Status s) {
     case Status::kCapacityExceeded: return "capacity exceeded";
     case Status::kNotPositiveDefinite: return "covariance not positive definite";
     case Status::kInvalidArgument: return "invalid argument";
+    case Status::kNotInitialised: return "not initialised";
     case Status::kBackendUnavailable: return "backend unavailable";
     case Status::kBackendError: return "backend error";
   }

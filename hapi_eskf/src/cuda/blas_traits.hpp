@@ -2,6 +2,8 @@
 // uses (FP64 default, FP32 option: settings.hpp Precision).
 #pragma once
 
+#include "hapi_eskf/settings.hpp"
+
 #include <cublas_v2.h>
 #include <cusolverDn.h>
 
@@ -96,7 +98,7 @@ cusolverStatus_t trtri(cusolverDnHandle_t h, int n, T* L, void* device_work, std
 }
 
 // C <- C - A A^T on the lower triangle of the leading n x n block, three
-// schedules of the same n^2 k flops (HAPI_ESKF_CUDA_RANK_UPDATE, the bench
+// schedules of the same n^2 k flops (EskfSettings::cuda_rank_update; the bench
 // times each on the device, docs/BENCHMARKS.md):
 //  * kSyrk: one cuBLAS SYRK;
 //  * kPanelGemm: column panels of width `panel`, one GEMM each
@@ -106,7 +108,7 @@ cusolverStatus_t trtri(cusolverDnHandle_t h, int n, T* L, void* device_work, std
 //    of each level is ONE GEMM (few, large, square GEMMs: cuBLAS's best rate
 //    for k = 3L is on square shapes), the two diagonal halves recurse, down to
 //    diagonal blocks of at most `panel` rows, done by SYRK. No wasted flops.
-enum class RankUpdate { kSyrk, kPanelGemm, kRecursive };
+// kAuto takes autoRankUpdate(n).
 
 template <typename T>
 cublasStatus_t rankUpdateRecursive(cublasHandle_t h, int n, int k, const T* A, int lda, T* C, std::size_t ldc,
@@ -121,12 +123,15 @@ cublasStatus_t rankUpdateRecursive(cublasHandle_t h, int n, int k, const T* A, i
   return rankUpdateRecursive<T>(h, n - h1, k, A + h1, lda, C + h1 + static_cast<std::size_t>(h1) * ldc, ldc, leaf);
 }
 
+inline CudaRankUpdate autoRankUpdate(int n);
+
 template <typename T>
-cublasStatus_t rankUpdate(cublasHandle_t h, RankUpdate how, int n, int k, const T* A, int lda, T* C,
+cublasStatus_t rankUpdate(cublasHandle_t h, CudaRankUpdate how, int n, int k, const T* A, int lda, T* C,
                           std::size_t ldc, int panel) {
   if (n <= 0 || k <= 0) return CUBLAS_STATUS_SUCCESS;
-  if (how == RankUpdate::kSyrk) return Blas<T>::syrk(h, n, k, T(-1), A, lda, T(1), C, static_cast<int>(ldc));
-  if (how == RankUpdate::kRecursive) return rankUpdateRecursive<T>(h, n, k, A, lda, C, ldc, panel);
+  if (how == CudaRankUpdate::kAuto) how = autoRankUpdate(n);
+  if (how == CudaRankUpdate::kSyrk) return Blas<T>::syrk(h, n, k, T(-1), A, lda, T(1), C, static_cast<int>(ldc));
+  if (how == CudaRankUpdate::kRecursive) return rankUpdateRecursive<T>(h, n, k, A, lda, C, ldc, panel);
   for (int j = 0; j < n; j += panel) {
     const int b = n - j < panel ? n - j : panel;
     const cublasStatus_t s = Blas<T>::gemmNT(h, n - j, b, k, T(-1), A + j, lda, A + j, lda, T(1),
@@ -144,7 +149,7 @@ inline int defaultPanel(int n) {
   return p < 512 ? 512 : (p > 4096 ? 4096 : p);
 }
 
-// Schedule and solve chosen by size when the environment names none, from
+// Schedule and solve chosen by size (the kAuto settings), from
 // the H100 runs of docs/BENCHMARKS.md: one SYRK is fastest while launches
 // dominate (K <= 2000), the panelled GEMM around K = 4000, the recursive
 // schedule from K = 8000 up (isolated at K = 32000: 111.7 ms vs 117.5 SYRK,
@@ -152,8 +157,8 @@ inline int defaultPanel(int n) {
 // 0.78 ms) and loses above (K = 32000: 3.9 vs 2.3 ms). In the filter at
 // K = 32000 this choice takes 131.0 ms per iteration against 142.2 for the
 // previous fixed panelled GEMM + TRSM (alternated A/B, same call).
-inline RankUpdate autoRankUpdate(int n) {
-  return n < 8192 ? RankUpdate::kSyrk : (n < 16384 ? RankUpdate::kPanelGemm : RankUpdate::kRecursive);
+inline CudaRankUpdate autoRankUpdate(int n) {
+  return n < 8192 ? CudaRankUpdate::kSyrk : (n < 16384 ? CudaRankUpdate::kPanelGemm : CudaRankUpdate::kRecursive);
 }
 inline bool autoSolveByInverse(int n) { return n >= 20000; }
 
@@ -162,17 +167,6 @@ inline bool autoSolveByInverse(int n) { return n >= 20000; }
 // sectors and aligned GEMM tiles; ld = 96012 put column starts at 4 different
 // offsets within 128 bytes).
 inline std::size_t paddedLd(int n) { return (static_cast<std::size_t>(n) + 31) / 32 * 32; }
-
-// Variant named by the environment switch; false (out untouched) otherwise.
-inline bool parseRankUpdate(const char* s, RankUpdate* out) {
-  if (s == nullptr) return false;
-  const std::string v(s);
-  if (v == "syrk") *out = RankUpdate::kSyrk;
-  else if (v == "gemm") *out = RankUpdate::kPanelGemm;
-  else if (v == "recursive") *out = RankUpdate::kRecursive;
-  else return false;
-  return true;
-}
 
 }  // namespace cuda
 }  // namespace hapi_eskf

@@ -4,20 +4,20 @@
 // n), the 3m-vector y and small blocks cross the bus inside the filter loop.
 // The O(n^2 m) step is cuBLAS (SYRK, panelled or recursive GEMMs), the
 // factorisations cuSOLVER, the O(n m) gathers and all bookkeeping our own
-// kernels (kernels.cuh).
+// kernels (kernels.cuh). Inputs arrive checked (CovarianceBackend's public
+// methods, src/core/covariance_backend.cpp), before anything touches the
+// device.
 #include "hapi_eskf/cuda/cuda_backend.hpp"
 #include "hapi_eskf/removal_plan.hpp"
 
 #include "blas_traits.hpp"
 #include "cuda_check.hpp"
 #include "device_buffer.hpp"
-#include "input_checks.hpp"
 #include "kernels.cuh"
 #include "stage_times.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -34,23 +34,21 @@ Mat12Param toParam(const Mat12& M) {
   return p;
 }
 
-// HAPI_ESKF_CUDA_RANK_UPDATE=syrk|gemm|recursive fixes the schedule of
-// C <- C - A A^T (blas_traits.hpp), HAPI_ESKF_CUDA_SOLVE=trsm|inverse how
-// A = P L^-T is formed; unset (the default), both are chosen by size
-// (autoRankUpdate, autoSolveByInverse: the fastest on the H100,
-// docs/BENCHMARKS.md). The GPU tests run every pair against the CPU.
-enum class Solve { kAuto, kTrsm, kInverse };
-Solve solveFromEnv() {
-  const char* e = std::getenv("HAPI_ESKF_CUDA_SOLVE");
-  const std::string v = e != nullptr ? e : "";
-  return v == "trsm" ? Solve::kTrsm : (v == "inverse" ? Solve::kInverse : Solve::kAuto);
-}
-
+// The settings' cuda_rank_update fixes the schedule of C <- C - A A^T
+// (blas_traits.hpp), cuda_solve how A = P L^-T is formed; auto (the default)
+// chooses both by size (autoRankUpdate, autoSolveByInverse: the fastest on
+// the H100, docs/BENCHMARKS.md). The GPU tests run every pair against the CPU.
 template <typename T>
 class CudaBackend final : public CovarianceBackend {
  public:
-  CudaBackend(int capacity, int descriptor_length, int device)
-      : cap_(capacity), D_(descriptor_length), device_(device), ld_(paddedLd(stateDim(capacity))) {}
+  CudaBackend(int capacity, int descriptor_length, const EskfSettings& s)
+      : cap_(capacity),
+        D_(descriptor_length),
+        device_(s.cuda_device),
+        ld_(paddedLd(stateDim(capacity))),
+        rank_(s.cuda_rank_update),
+        solve_(s.cuda_solve),
+        stage_times_(s.cuda_stage_times) {}
 
   ~CudaBackend() override {
     cudaSetDevice(device_);
@@ -80,9 +78,7 @@ class CudaBackend final : public CovarianceBackend {
     if (failed(desc_tmp_.ensure(pool), "cudaMalloc(descriptors)", why)) return false;
     if (failed(dx_.ensure(ld_), "cudaMalloc(dx)", why)) return false;
     if (failed(cudaStreamSynchronize(stream_), "cudaStreamSynchronize", why)) return false;
-    rank_fixed_ = parseRankUpdate(std::getenv("HAPI_ESKF_CUDA_RANK_UPDATE"), &rank_);
-    solve_ = solveFromEnv();
-    if (stageTimesEnabled()) {
+    if (stage_times_) {
       for (cudaEvent_t& e : ev_)
         if (failed(cudaEventCreate(&e), "cudaEventCreate", why)) return false;
     }
@@ -99,9 +95,8 @@ class CudaBackend final : public CovarianceBackend {
            small_.bytes() + work2_.bytes() + y2_.bytes() + trtri_dev_.bytes();
   }
 
-  Status reset(const Mat12& C_pose) override {
-    const Status s = checkPoseCovariance(C_pose);
-    if (s != Status::kOk) return s;
+ protected:
+  Status doReset(const Mat12& C_pose) override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
     std::vector<T> h(144);
     for (int i = 0; i < 144; ++i) h[i] = static_cast<T>(C_pose.data()[i]);  // column-major
@@ -112,20 +107,14 @@ class CudaBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  Status predict(const Mat12& F, const Mat12& Q) override {
-    if (!F.allFinite() || !Q.allFinite()) return Status::kNonFinite;
+  Status doPredict(const Mat12& F, const Mat12& Q) override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
     HAPI_CUDA_TRY(launchPredict<T>(C_.get(), ld_, n(), toParam(F), toParam(Q), stream_));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     return Status::kOk;
   }
 
-  Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
-    if (out == nullptr) return Status::kInvalidArgument;
-    const Status s = checkSlotRange(slots, K_);
-    if (s != Status::kOk) return s;
-    out->resize(slots.size());
-    if (slots.empty()) return Status::kOk;
+  Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
     const int cnt = static_cast<int>(slots.size());
     HAPI_CUDA_TRY(slots_.ensure(slots.size()));
@@ -140,9 +129,7 @@ class CudaBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  Status update(const std::vector<MeasurementBlock>& blocks, Eigen::VectorXd* dx, double* nis) override {
-    const Status s = checkUpdate(blocks, dx, K_);
-    if (s != Status::kOk) return s;
+  Status doUpdate(const std::vector<MeasurementBlock>& blocks, Eigen::VectorXd* dx, double* nis) override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
     const int m = static_cast<int>(blocks.size());
     const int dim = 3 * m;
@@ -216,15 +203,15 @@ class CudaBackend final : public CovarianceBackend {
       if (!(min_l > 1e-12 * std::sqrt(max_s))) return Status::kNotPositiveDefinite;
     }
 
-    // 3. A = P L^-T, y = L^-1 z, dx = A y. Solve::kTrsm: in place by TRSM.
-    // Solve::kInverse: L^-1 by trtri (3m x 3m, small), then A = P L^-T as one
+    // 3. A = P L^-T, y = L^-1 z, dx = A y. CudaSolve::kTrsm: in place by TRSM.
+    // CudaSolve::kInverse: L^-1 by trtri (3m x 3m, small), then A = P L^-T as one
     // GEMM into a second workspace: the same product at GEMM rate instead of
     // TRSM's (bench, docs/BENCHMARKS.md). L's diagonal was checked above, so
     // trtri cannot meet a zero pivot.
     T* A = P;
     T* y = y_.get();
     HAPI_CUDA_TRY(mark(kEvTrsmStart));
-    const bool by_inverse = solve_ == Solve::kInverse || (solve_ == Solve::kAuto && autoSolveByInverse(nn));
+    const bool by_inverse = solve_ == CudaSolve::kInverse || (solve_ == CudaSolve::kAuto && autoSolveByInverse(nn));
     if (by_inverse) {
       HAPI_CUDA_TRY(ensureInverseWork(dim));
       HAPI_CUDA_TRY(trtri<T>(solver_, dim, S_.get(), trtri_dev_.get(), trtri_dev_.bytes(), trtri_host_.data(),
@@ -255,8 +242,7 @@ class CudaBackend final : public CovarianceBackend {
 
     // 4. C <- C - A A^T (lower triangle only).
     HAPI_CUDA_TRY(mark(kEvRankStart));
-    const RankUpdate how = rank_fixed_ ? rank_ : autoRankUpdate(nn);
-    HAPI_CUDA_TRY(rankUpdate<T>(blas_, how, nn, dim, A, ldP, C_.get(), ld_, defaultPanel(nn)));
+    HAPI_CUDA_TRY(rankUpdate<T>(blas_, rank_, nn, dim, A, ldP, C_.get(), ld_, defaultPanel(nn)));
     HAPI_CUDA_TRY(mark(kEvRankDone));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     HAPI_CUDA_TRY(accumulateStageTimes());
@@ -265,10 +251,7 @@ class CudaBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  Status addLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
-    if (blocks.empty()) return Status::kOk;
-    const Status s = checkAdd(blocks, K_, cap_, D_);
-    if (s != Status::kOk) return s;
+  Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
     const int m = static_cast<int>(blocks.size());
     std::vector<T> hG(18 * static_cast<std::size_t>(m)), hN(9 * static_cast<std::size_t>(m));
@@ -299,10 +282,7 @@ class CudaBackend final : public CovarianceBackend {
   // Fill holes from the tail (removal_plan.hpp, launchFillHoles in
   // kernels.cuh): O(n) per moved landmark, no workspace; the descriptors
   // follow the same plan.
-  Status removeLandmarks(const std::vector<int>& slots) override {
-    if (slots.empty()) return Status::kOk;
-    const Status s = checkDistinctSlots(slots, K_);
-    if (s != Status::kOk) return s;
+  Status doRemoveLandmarks(const std::vector<int>& slots) override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
     const int K_new = K_ - static_cast<int>(slots.size());
     const std::vector<SlotMove> moves = tailFillMoves(K_, slots);
@@ -323,10 +303,7 @@ class CudaBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const override {
-    if (out == nullptr || n_query < 0 || (n_query > 0 && queries == nullptr)) return Status::kInvalidArgument;
-    out->assign(static_cast<std::size_t>(n_query), DescriptorMatch{});
-    if (n_query == 0 || D_ == 0 || K_ == 0) return Status::kOk;
+  Status doMatchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
     const std::size_t qbytes = static_cast<std::size_t>(n_query) * D_;
     HAPI_CUDA_TRY(queries_.ensure(qbytes));
@@ -348,6 +325,7 @@ class CudaBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
+ public:
   Mat12 poseCovariance() const override {
     Mat12 out = Mat12::Constant(std::numeric_limits<double>::quiet_NaN());
     std::vector<T> h(144);
@@ -406,7 +384,7 @@ class CudaBackend final : public CovarianceBackend {
  private:
   int n() const { return stateDim(K_); }
 
-  // Optional per-stage timing of update() (HAPI_ESKF_CUDA_STAGE_TIMES=1,
+  // Optional per-stage timing of update() (the cuda_stage_times setting,
   // stage_times.hpp): events on the filter's own stream, so the spans include
   // the bubbles of the host round trips; off by default (no events recorded).
   enum Ev { kEvStart, kEvUploaded, kEvGathered, kEvInnovationCov, kEvFactored, kEvTrsmStart, kEvTrsmDone, kEvSolved,
@@ -457,11 +435,11 @@ class CudaBackend final : public CovarianceBackend {
 
   const int cap_, D_, device_;
   const std::size_t ld_;
+  const CudaRankUpdate rank_;  // kAuto: autoRankUpdate(n) at each update
+  const CudaSolve solve_;      // kAuto: autoSolveByInverse(n) at each update
+  const bool stage_times_;
   int K_ = 0;
   int work_cols_ = 0;
-  RankUpdate rank_ = RankUpdate::kRecursive;
-  bool rank_fixed_ = false;  // else autoRankUpdate(n)
-  Solve solve_ = Solve::kAuto;
   cudaEvent_t ev_[kEvCount] = {};
   cudaStream_t stream_ = nullptr;
   cublasHandle_t blas_ = nullptr;
@@ -484,29 +462,30 @@ class CudaBackend final : public CovarianceBackend {
 bool deviceAvailable(int device, std::string* info) {
   std::string dummy;
   std::string* out = info != nullptr ? info : &dummy;
+  const std::string dev = "CUDA device " + std::to_string(device);
   int count = 0;
   const cudaError_t e = cudaGetDeviceCount(&count);
   if (e != cudaSuccess) {
-    *out = std::string("no CUDA device: ") + cudaGetErrorString(e);
+    *out = dev + " unusable: no CUDA device (" + cudaGetErrorString(e) + ")";
     cudaGetLastError();  // clear the sticky-free error so later calls start clean
     return false;
   }
   if (device < 0 || device >= count) {
-    *out = "CUDA device " + std::to_string(device) + " requested, " + std::to_string(count) + " present";
+    *out = dev + " requested, " + std::to_string(count) + " present";
     return false;
   }
   cudaDeviceProp p{};
   if (cudaGetDeviceProperties(&p, device) != cudaSuccess) {
-    *out = "cudaGetDeviceProperties failed";
+    *out = dev + " unusable: cudaGetDeviceProperties failed";
     return false;
   }
-  *out = std::string(p.name) + ", " + std::to_string(p.totalGlobalMem >> 20) + " MiB, sm_" +
+  *out = dev + ": " + p.name + ", " + std::to_string(p.totalGlobalMem >> 20) + " MiB, sm_" +
          std::to_string(p.major) + std::to_string(p.minor);
   return true;
 }
 
-std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, Precision precision,
-                                                   int device, std::string* error) {
+std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, const EskfSettings& s,
+                                                   std::string* error) {
   std::string dummy;
   std::string* err = error != nullptr ? error : &dummy;
   if (capacity < 0 || descriptor_length < 0) {
@@ -514,16 +493,16 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
     return nullptr;
   }
   std::string info;
-  if (!deviceAvailable(device, &info)) {
+  if (!deviceAvailable(s.cuda_device, &info)) {
     *err = info;
     return nullptr;
   }
   std::string why;
-  if (precision == Precision::kFp32) {
-    auto b = std::make_unique<CudaBackend<float>>(capacity, descriptor_length, device);
+  if (s.precision == Precision::kFp32) {
+    auto b = std::make_unique<CudaBackend<float>>(capacity, descriptor_length, s);
     if (b->init(&why)) return b;
   } else {
-    auto b = std::make_unique<CudaBackend<double>>(capacity, descriptor_length, device);
+    auto b = std::make_unique<CudaBackend<double>>(capacity, descriptor_length, s);
     if (b->init(&why)) return b;
   }
   *err = "CUDA backend (capacity " + std::to_string(capacity) + ") on " + info + ": " + why;

@@ -1,5 +1,5 @@
 // Status plumbing: every CUDA runtime / cuBLAS / cuSOLVER result is checked
-// and turned into Status::kBackendError with a readable reason (brief: bad
+// and turned into Status::kBackendError with a readable reason (bad
 // input or a failing device never crashes the filter).
 #pragma once
 

@@ -1,9 +1,7 @@
 // Recorder behind stage_times.hpp: a process-wide list the bench drains.
 #include "stage_times.hpp"
 
-#include <cstdlib>
 #include <mutex>
-#include <string>
 
 namespace hapi_eskf {
 namespace cuda {
@@ -11,11 +9,6 @@ namespace {
 std::mutex g_mu;
 std::vector<UpdateStageTimes> g_times;
 }  // namespace
-
-bool stageTimesEnabled() {
-  const char* e = std::getenv("HAPI_ESKF_CUDA_STAGE_TIMES");
-  return e != nullptr && std::string(e) == "1";
-}
 
 void recordUpdateStageTimes(const UpdateStageTimes& t) {
   std::lock_guard<std::mutex> lock(g_mu);

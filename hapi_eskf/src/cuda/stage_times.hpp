@@ -1,9 +1,9 @@
-// Per-stage device timing of CudaBackend::update() for the benchmark (issue 3:
-// account for the update's time at large K). Enabled by the environment
-// variable HAPI_ESKF_CUDA_STAGE_TIMES=1 when a backend is created; off, the
-// backend records no events. Times are spans between events on the filter's
-// stream, in ms, so the host round trips (read-back of the factor's info and
-// diagonal, of y and dx) show up as the host_check spans.
+// Per-stage device timing of CudaBackend::update() for the benchmark: account
+// for the update's time at large K. A backend created with the
+// cuda_stage_times setting records events around each stage and files the
+// spans here; without it, no events are recorded. Times are spans between
+// events on the filter's stream, in ms, so the host round trips (read-back of
+// the factor's info and diagonal, of y and dx) show up as the host_check spans.
 #pragma once
 
 #include <vector>
@@ -23,7 +23,6 @@ struct UpdateStageTimes {
   double rank_update = 0;     // C <- C - A A^T
 };
 
-bool stageTimesEnabled();
 void recordUpdateStageTimes(const UpdateStageTimes& t);
 // Every update recorded since the last call, then cleared.
 std::vector<UpdateStageTimes> takeUpdateStageTimes();

@@ -1,4 +1,8 @@
+// Checks of hapi_msgs/StereoLandmarks before the filter sees a message; the
+// covariance test is the filter's own (hapi_eskf/covariance_checks.hpp).
 #include "hapi_eskf/ros/validation.hpp"
+
+#include "hapi_eskf/covariance_checks.hpp"
 
 #include <cmath>
 #include <unordered_set>
@@ -20,21 +24,6 @@ const char* rejectName(Reject r) {
     case Reject::kStampBackwards: return "stamp_backwards";
     default: return "unknown";
   }
-}
-
-bool isSymmetricPositiveDefinite3(const double* c, double rel_tol) {
-  for (int i = 0; i < 9; ++i)
-    if (!std::isfinite(c[i])) return false;
-  double scale = std::abs(c[0]) + std::abs(c[4]) + std::abs(c[8]);
-  if (!(scale > 0.0)) return false;
-  const double tol = rel_tol * scale + 1e-300;
-  if (std::abs(c[1] - c[3]) > tol || std::abs(c[2] - c[6]) > tol || std::abs(c[5] - c[7]) > tol) return false;
-  // Sylvester's criterion on the leading principal minors.
-  const double m1 = c[0];
-  const double m2 = c[0] * c[4] - c[1] * c[3];
-  const double m3 = c[0] * (c[4] * c[8] - c[5] * c[7]) - c[1] * (c[3] * c[8] - c[5] * c[6]) +
-                    c[2] * (c[3] * c[7] - c[4] * c[6]);
-  return m1 > 0.0 && m2 > 0.0 && m3 > 0.0;
 }
 
 ValidationResult validateLandmarks(const hapi_msgs::StereoLandmarks& msg, const ValidationConfig& cfg) {
@@ -76,7 +65,8 @@ ValidationResult validateLandmarks(const hapi_msgs::StereoLandmarks& msg, const 
     // The filter ranks measurements by response; a NaN would break the sort's ordering.
     if (!std::isfinite(l.response))
       return fail(Reject::kNonFinite, "landmark " + std::to_string(i) + ": non-finite response");
-    if (!isSymmetricPositiveDefinite3(l.position_covariance.data(), cfg.symmetry_tol))
+    if (!isSymmetricPositiveDefinite(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+            l.position_covariance.data())))
       return fail(Reject::kBadCovariance, "landmark " + std::to_string(i) + ": covariance not symmetric positive definite");
     if (!ids.insert(l.id).second)
       return fail(Reject::kDuplicateId, "duplicate landmark id " + std::to_string(l.id));

@@ -54,15 +54,27 @@ struct Snapshot {
   }
 };
 
+// Device-side settings of the CUDA backend under test (device 0).
+inline EskfSettings cudaSettings(Precision p = Precision::kFp64, CudaRankUpdate rank = CudaRankUpdate::kAuto,
+                                 CudaSolve solve = CudaSolve::kAuto) {
+  EskfSettings s;
+  s.precision = p;
+  s.cuda_device = 0;
+  s.cuda_rank_update = rank;
+  s.cuda_solve = solve;
+  return s;
+}
+
 // The same inputs into the Eigen reference and the CUDA backend.
 struct BackendPair {
   std::unique_ptr<CovarianceBackend> cpu, gpu;
   int dlen;
 
-  BackendPair(int capacity, int descriptor_length, Precision p = Precision::kFp64) : dlen(descriptor_length) {
+  BackendPair(int capacity, int descriptor_length, const EskfSettings& gpu_settings = cudaSettings())
+      : dlen(descriptor_length) {
     cpu = makeCpuBackend(capacity, descriptor_length);
     std::string err;
-    gpu = cuda::makeCudaBackend(capacity, descriptor_length, p, 0, &err);
+    gpu = cuda::makeCudaBackend(capacity, descriptor_length, gpu_settings, &err);
     EXPECT_TRUE(gpu != nullptr) << err;
   }
 

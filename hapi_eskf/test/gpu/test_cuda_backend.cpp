@@ -1,7 +1,6 @@
-// CUDA backend against the Eigen reference (issue 3: "CPU vs GPU: same inputs
-// -> states equal to 1e-9 relative (FP64) over 100 iterations with
-// additions/removals"), method by method, bad-input parity, and the FP32
-// stability check. Every case skips without a CUDA device.
+// CUDA backend against the Eigen reference (CPU vs GPU: same inputs -> states
+// equal to 1e-9 relative (FP64) over 100 iterations with additions and
+// removals), method by method, bad-input parity, and the FP32 stability check. Every case skips without a CUDA device.
 #include "backend_pair.hpp"
 
 #include "hapi_eskf/removal_plan.hpp"
@@ -16,18 +15,20 @@ namespace hapi_eskf {
 namespace gputest {
 namespace {
 
-constexpr double kTol = 1e-9;  // FP64 parity (issue 3)
+constexpr double kTol = 1e-9;  // FP64 parity
 
 TEST(CudaBackend, FactoryReportsDeviceOrReason) {
   std::string why;
   const bool ok = cuda::deviceAvailable(0, &why);
   EXPECT_FALSE(why.empty());
   std::string err;
-  auto b = cuda::makeCudaBackend(10, 32, Precision::kFp64, 0, &err);
+  auto b = cuda::makeCudaBackend(10, 32, cudaSettings(), &err);
   EXPECT_EQ(ok, b != nullptr) << err;
   if (!ok) EXPECT_FALSE(err.empty());
-  EXPECT_EQ(cuda::makeCudaBackend(-1, 32, Precision::kFp64, 0, &err), nullptr);
-  EXPECT_EQ(cuda::makeCudaBackend(10, 32, Precision::kFp64, 999, &err), nullptr);
+  EXPECT_EQ(cuda::makeCudaBackend(-1, 32, cudaSettings(), &err), nullptr);
+  EskfSettings absent = cudaSettings();
+  absent.cuda_device = 999;
+  EXPECT_EQ(cuda::makeCudaBackend(10, 32, absent, &err), nullptr);
   EXPECT_FALSE(err.empty());
 }
 
@@ -157,17 +158,13 @@ TEST(CudaBackend, EmptyPoolAndNoQueriesLikeCpu) {
 // The issue's parity requirement: 100 iterations of predict / match / update /
 // remove / add with every state compared after every iteration, for each
 // schedule of the rank update and each way of forming A = P L^-T
-// (HAPI_ESKF_CUDA_RANK_UPDATE, HAPI_ESKF_CUDA_SOLVE). The pool stays below
-// the recursive schedule's 512-row leaf here; LargePoolRemovalAndGatherMatchCpu
-// runs its recursion several levels deep.
-// An empty name leaves the choice to the backend.
-void runHundredIterations(const char* rank_update, const char* solve) {
-  setenv("HAPI_ESKF_CUDA_RANK_UPDATE", rank_update, 1);
-  setenv("HAPI_ESKF_CUDA_SOLVE", solve, 1);
+// (EskfSettings::cuda_rank_update, cuda_solve). The pool stays below the
+// recursive schedule's 512-row leaf here; LargePoolRemovalAndGatherMatchCpu
+// runs its recursion several levels deep. kAuto leaves the choice to the
+// backend.
+void runHundredIterations(CudaRankUpdate rank_update, CudaSolve solve) {
   Rng r(3);
-  BackendPair p(170, 32);
-  unsetenv("HAPI_ESKF_CUDA_RANK_UPDATE");
-  unsetenv("HAPI_ESKF_CUDA_SOLVE");
+  BackendPair p(170, 32, cudaSettings(Precision::kFp64, rank_update, solve));
   ASSERT_TRUE(p.gpu);
   const Mat12 C0 = r.spd12(0.01);
   ASSERT_EQ(p.cpu->reset(C0), Status::kOk);
@@ -220,27 +217,27 @@ void runHundredIterations(const char* rank_update, const char* solve) {
 
 TEST(CudaBackend, HundredIterationsMatchCpuAutomaticChoice) {  // the default: by size
   HAPI_REQUIRE_CUDA_DEVICE();
-  runHundredIterations("", "");
+  runHundredIterations(CudaRankUpdate::kAuto, CudaSolve::kAuto);
 }
 
 TEST(CudaBackend, HundredIterationsMatchCpuRecursiveInverse) {
   HAPI_REQUIRE_CUDA_DEVICE();
-  runHundredIterations("recursive", "inverse");
+  runHundredIterations(CudaRankUpdate::kRecursive, CudaSolve::kInverse);
 }
 
 TEST(CudaBackend, HundredIterationsMatchCpuPanelGemmInverse) {
   HAPI_REQUIRE_CUDA_DEVICE();
-  runHundredIterations("gemm", "inverse");
+  runHundredIterations(CudaRankUpdate::kPanelGemm, CudaSolve::kInverse);
 }
 
 TEST(CudaBackend, HundredIterationsMatchCpuSyrkTrsm) {
   HAPI_REQUIRE_CUDA_DEVICE();
-  runHundredIterations("syrk", "trsm");
+  runHundredIterations(CudaRankUpdate::kSyrk, CudaSolve::kTrsm);
 }
 
 TEST(CudaBackend, HundredIterationsMatchCpuRecursiveTrsm) {
   HAPI_REQUIRE_CUDA_DEVICE();
-  runHundredIterations("recursive", "trsm");
+  runHundredIterations(CudaRankUpdate::kRecursive, CudaSolve::kTrsm);
 }
 
 // A pool large enough that the removal moves hundreds of landmarks across
@@ -252,11 +249,7 @@ TEST(CudaBackend, HundredIterationsMatchCpuRecursiveTrsm) {
 TEST(CudaBackend, LargePoolRemovalAndGatherMatchCpu) {
   HAPI_REQUIRE_CUDA_DEVICE();
   Rng r(6);
-  setenv("HAPI_ESKF_CUDA_RANK_UPDATE", "recursive", 1);
-  setenv("HAPI_ESKF_CUDA_SOLVE", "inverse", 1);
-  BackendPair p(1500, 32);
-  unsetenv("HAPI_ESKF_CUDA_RANK_UPDATE");
-  unsetenv("HAPI_ESKF_CUDA_SOLVE");
+  BackendPair p(1500, 32, cudaSettings(Precision::kFp64, CudaRankUpdate::kRecursive, CudaSolve::kInverse));
   ASSERT_TRUE(p.gpu);
   const Mat12 C0 = r.spd12(0.01);
   ASSERT_EQ(p.cpu->reset(C0), Status::kOk);
@@ -301,7 +294,7 @@ TEST(CudaBackend, LargePoolRemovalAndGatherMatchCpu) {
   }
 }
 
-// Same Status for the same bad input, and neither state changes (issue 3 "bad input").
+// Same Status for the same bad input, and neither state changes.
 TEST(CudaBackend, BadInputParity) {
   HAPI_REQUIRE_CUDA_DEVICE();
   Rng r(4);
@@ -401,7 +394,7 @@ TEST(CudaBackend, BadInputParity) {
 TEST(CudaBackend, Fp32StaysStableAndCloseToFp64) {
   HAPI_REQUIRE_CUDA_DEVICE();
   Rng r(5);
-  BackendPair p(120, 32, Precision::kFp32);
+  BackendPair p(120, 32, cudaSettings(Precision::kFp32));
   ASSERT_TRUE(p.gpu);
   EXPECT_STREQ(p.gpu->name(), "cuda-fp32");
   const Mat12 C0 = r.spd12(0.01);

@@ -1,8 +1,9 @@
-// Two complete filters, one per backend, fed identical frames (issue 3: "CPU vs
-// GPU: same inputs -> states equal to 1e-9 relative (FP64) over 100 iterations
-// with additions/removals"), through Eskf::processFrame: association, gating,
+// Two complete filters, one per backend, fed identical frames (CPU vs GPU:
+// same inputs -> states equal to 1e-9 relative (FP64) over 100 iterations with
+// additions and removals), through Eskf::processFrame: association, gating,
 // update, eviction and initialisation all run on each backend.
 #include "backend_pair.hpp"
+#include "../basic_settings.hpp"
 
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/jacobians.hpp"
@@ -45,7 +46,7 @@ struct World {
 
 TEST(CudaFilter, HundredFramesMatchCpuFilter) {
   HAPI_REQUIRE_CUDA_DEVICE();
-  EskfSettings s;
+  EskfSettings s = testing_settings::basicFilter();
   s.max_landmarks = 150;  // small pool: eviction runs in most frames
   s.max_new_landmarks = 20;
   s.max_update_landmarks = 40;

@@ -106,7 +106,7 @@ TEST(EskfNodeletStartup, InvalidParametersRefuseToLoadWithAClearError) {
 
 TEST(EskfNodeletStartup, CudaWithoutDeviceIsFatalOrAnAnnouncedCpuFallback) {
   std::string why;
-  const bool cuda = hapi_eskf::cudaBackendAvailable(&why);
+  const bool cuda = hapi_eskf::cudaBackendAvailable(hapi_eskf::EskfSettings().cuda_device, &why);
   std::printf("[startup rostest] CUDA backend available: %s (%s)\n", cuda ? "yes" : "no", why.c_str());
 
   ros::param::set("/cuda_strict/backend", std::string("cuda"));

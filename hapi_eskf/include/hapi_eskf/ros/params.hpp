@@ -1,10 +1,14 @@
 // Private (~) parameters of hapi_eskf/EskfNodelet, read and validated once at
-// start-up. Every field is documented with its default in config/eskf.yaml.
+// start-up. The nodelet's own parameters are declared once in
+// nodelet_params.def, the filter's in eskf_settings.def (names, defaults,
+// ranges, units: hapi_eskf/field_table.hpp); config/eskf.yaml documents every
+// one of them with its default (checked by test/ros/params_yaml_rostest.cpp).
 #pragma once
 
 #include "hapi_eskf/settings.hpp"
 
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace ros {
@@ -15,41 +19,45 @@ namespace hapi_eskf {
 namespace ros_glue {
 
 struct NodeletParams {
-  EskfSettings filter;              // same names as the EskfSettings fields
-  bool allow_cpu_fallback = true;   // backend=cuda but no usable device -> cpu (loud warning)
+  EskfSettings filter;  // same names as the EskfSettings fields
 
-  // Frames (REP-105). The filter's world is the first camera pose; it is
-  // published as `world_frame`. With `base_frame` set, map is anchored at the
-  // first base pose instead (see docs in config/eskf.yaml) and TF is
-  // world_frame -> base_frame, else world_frame -> camera frame.
-  std::string world_frame = "map";
-  std::string camera_frame;          // empty: the frame_id of the first accepted message
-  std::string base_frame;            // empty: publish world_frame -> camera frame
-  bool publish_tf = true;
-
-  double map_publish_rate = 1.0;     // [Hz]
-  int path_max_length = 10000;       // poses kept for ~path and ~save_trajectory
-  int max_measurements_per_msg = 2000;
-  double time_jump_reset = 1.0;      // [s] a stamp this far backwards resets the filter
-  double diagnostics_period = 1.0;   // [s]
-
-  bool use_imu = false;
-  std::string imu_topic = "imu";       // sensor_msgs/Imu, gyro used for prediction
-  double gyro_noise_density = 1.7e-4;  // [rad/s/sqrt(Hz)]
-  int imu_buffer_size = 2000;          // samples waiting for the next frame
-
-  std::string output_dir = "/tmp";   // ~save_map / ~save_trajectory write here
+#define HAPI_FIELD(type, name, default_value, range, unit, doc) type name = default_value;
+#include "hapi_eskf/ros/nodelet_params.def"
+#undef HAPI_FIELD
 
   // Set by loadParams: names under ~ that no parameter reads (typos such as
   // ~max_landmark would otherwise be silently ignored); the nodelet warns.
   std::vector<std::string> unknown;
 
-  // Empty when valid, else a message naming the offending parameter.
+  // Empty when valid, else a message naming the offending parameter: the
+  // filter's settings, every field against its table range, then the rules
+  // between parameters (distinct frames, imu_topic with use_imu).
   std::string validate() const;
 };
 
+// Calls visit(const FieldInfo&, field) for every nodelet parameter of `p`
+// (not the filter's: forEachField(p.filter, ...)) in table order.
+template <typename Params, typename Visitor,
+          typename = std::enable_if_t<std::is_same<std::remove_const_t<Params>, NodeletParams>::value>>
+void forEachField(Params& p, Visitor&& visit) {
+#define HAPI_FIELD(type, name, default_value, range, unit, doc) visit(FieldInfo{#name, range, unit, doc}, p.name);
+#include "hapi_eskf/ros/nodelet_params.def"
+#undef HAPI_FIELD
+}
+
+// Calls visit(const FieldInfo&, field) for every ~ parameter: the filter's
+// settings, then the nodelet's own.
+template <typename Params, typename Visitor,
+          typename = std::enable_if_t<std::is_same<std::remove_const_t<Params>, NodeletParams>::value>>
+void forEachParameter(Params& p, Visitor&& visit) {
+  hapi_eskf::forEachField(p.filter, visit);
+  forEachField(p, visit);
+}
+
 // Reads every parameter from `pnh` (defaults above). Returns an empty string on
-// success, else the error (wrong type, unknown backend name, out of range).
+// success, else the error (wrong type, unknown enum value, out of range). A
+// present parameter of the wrong type is an error (ints are accepted for
+// doubles); names under ~ that no parameter reads are listed in out->unknown.
 std::string loadParams(const ros::NodeHandle& pnh, NodeletParams* out);
 
 }  // namespace ros_glue

@@ -1,4 +1,4 @@
-// IMU-rate pose output between filter frames (issue 5: prediction at IMU rate).
+// IMU-rate pose output between filter frames (prediction at the IMU rate).
 //
 // Why a copy: the filter predicts with the gyro only when the next frame is
 // processed, because it cannot go back in time and a frame always arrives
@@ -8,12 +8,14 @@
 // covariance, re-based on the filter after every frame and stepped with every
 // newer gyro sample, and publishes odometry/TF from it at the IMU rate.
 //
-// Exactness: the step is the filter's own (Eskf::predictWithGyro: w replaced
-// by the gyro for the step, then the constant-velocity model, DESIGN.md
-// "Predict"), and the pose block of the filter covariance evolves as
-// C_pp <- F C_pp F^T + Q, independently of the landmark blocks. After the
-// same samples this copy therefore equals the filter's pose and pose
-// covariance (checked in test/ros/pose_propagator_test.cpp).
+// Exactness: the step is the filter's own code path (gyro_prediction.hpp,
+// which Eskf::predictWithGyro runs too: w replaced by the gyro for the step,
+// then the constant-velocity model, DESIGN.md "Predict"), and the pose block
+// of the filter covariance evolves as C_pp <- F C_pp F^T + Q
+// (predictPoseCovariance, as in the CPU backend), independently of the
+// landmark blocks. After the same samples this copy therefore equals the
+// filter's pose and pose covariance (checked in
+// test/ros/pose_propagator_test.cpp).
 #pragma once
 
 #include "hapi_eskf/settings.hpp"
@@ -34,9 +36,9 @@ class PosePropagator {
   bool valid() const { return valid_; }
 
   // One gyro step to `stamp` (camera-frame rate [rad/s], noise density
-  // [rad/s/sqrt(Hz)]). Same argument checks as Eskf::predictWithGyro:
-  // kBackendUnavailable before rebase(), kNonFinite, kInvalidArgument for a
-  // stamp before time() or sigma <= 0; the state is unchanged on error.
+  // [rad/s/sqrt(Hz)]). The checks of Eskf::predictWithGyro: kNotInitialised
+  // before rebase(), kNonFinite, kInvalidArgument for a stamp before time()
+  // or sigma <= 0; the state is unchanged on error.
   Status step(double stamp, const Vec3& gyro_camera, double sigma_gyro);
 
   const PoseState& pose() const { return pose_; }

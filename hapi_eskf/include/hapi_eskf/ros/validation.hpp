@@ -12,7 +12,7 @@ namespace ros_glue {
 enum class Reject : int {
   kOk = 0,
   kNonFinite,          // NaN/Inf position, covariance or response
-  kBadCovariance,      // non-symmetric or not positive definite
+  kBadCovariance,      // not a covariance (hapi_eskf/covariance_checks.hpp): asymmetric or not PD
   kDescriptorSize,     // descriptors.size() != N * descriptor_length
   kDescriptorLength,   // descriptor_length 0, > kMaxDescriptorLength or != the pool's length
   kDescriptorType,     // descriptor_type differs from the pool's type
@@ -35,7 +35,6 @@ struct ValidationConfig {
   std::string expected_frame;        // empty: accept any non-empty frame
   int descriptor_type = -1;          // -1: not fixed yet (first message fixes it)
   std::uint32_t descriptor_length = 0;  // 0: not fixed yet
-  double symmetry_tol = 1e-9;        // relative
 };
 
 struct ValidationResult {
@@ -76,9 +75,6 @@ class StampGuard {
   double last_ = 0.0;
   bool has_last_ = false;
 };
-
-/// True when the 3x3 row-major matrix is finite, symmetric and positive definite.
-bool isSymmetricPositiveDefinite3(const double* c, double rel_tol = 1e-9);
 
 }  // namespace ros_glue
 }  // namespace hapi_eskf

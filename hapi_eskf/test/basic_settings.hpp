@@ -1,0 +1,24 @@
+// Settings of the basic filter iteration that the unit tests pin down: the
+// defaults (eskf_settings.def, the tuned values of config/eskf.yaml) with the
+// tuned extras switched off, i.e. no RANSAC before gating, no bootstrap batch,
+// no relocalisation after a gap and C_z as the front end gives it. A test's
+// expected counts and bounds then depend on the basic iteration only; the
+// tests of an extra switch it on themselves.
+#pragma once
+
+#include "hapi_eskf/settings.hpp"
+
+namespace hapi_eskf {
+namespace testing_settings {
+
+inline EskfSettings basicFilter() {
+  EskfSettings s;
+  s.ransac_iterations = 0;
+  s.bootstrap_landmarks = 0;
+  s.relocalise_gap = 0.0;
+  s.measurement_angular_sigma = 0.0;
+  return s;
+}
+
+}  // namespace testing_settings
+}  // namespace hapi_eskf
