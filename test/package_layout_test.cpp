@@ -1,4 +1,4 @@
-// Proves the resolution of the nested-package catch (DESIGN.md): the packages
+// Proves the resolution of the nested-package catch (docs/DESIGN.md "Nested-package catch"): the packages
 // nested under hapi_slam are visible to rospack, rosmsg and pluginlib exactly
 // as a user sees them after sourcing the workspace.
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // (or FP32) GEMM rate, device-to-device copy bandwidth, and the isolated
 // C <- C - A A^T step for a given n and rank (SYRK and panelled GEMM), so the
 // benchmark can state how far that step is from its floor
-// max(flops / peak, bytes / bandwidth) (DESIGN.md "Update" step 4).
+// max(flops / peak, bytes / bandwidth) (docs/DESIGN.md "Update" step 4).
 #pragma once
 
 #include <string>

@@ -1,5 +1,5 @@
 // Every analytic Jacobian of jacobians.hpp against central finite differences
-// on the manifold (DESIGN.md: "check every Jacobian numerically in a test").
+// on the manifold (docs/DESIGN.md "Jacobian checks").
 // Error convention: R = R^ Exp(dtheta), the others additive.
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/so3.hpp"

@@ -47,7 +47,7 @@ struct Rng {
   }
 };
 
-// Measurement block shaped like DESIGN.md "Measurement": -R^T, [h]x, R^T.
+// Measurement block shaped like docs/DESIGN.md "Measurement": -R^T, [h]x, R^T.
 inline MeasurementBlock randomBlock(Rng& r, int slot, double noise) {
   MeasurementBlock b;
   b.slot = slot;
@@ -59,7 +59,7 @@ inline MeasurementBlock randomBlock(Rng& r, int slot, double noise) {
   return b;
 }
 
-// New landmark shaped like DESIGN.md "New landmark": m = p + R z.
+// New landmark shaped like docs/DESIGN.md "New landmark": m = p + R z.
 inline NewLandmarkBlock randomNewBlock(Rng& r, const std::vector<uint8_t>& d) {
   NewLandmarkBlock b;
   const Mat3 R = expSO3(r.v3(1.0));

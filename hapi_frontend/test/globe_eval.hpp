@@ -1,5 +1,5 @@
 // Test/benchmark support: rendered globe stereo pairs (hapi_sim) with ground
-// truth, and the accuracy metrics for a StereoFrameResult.
+// truth, and the front end's accuracy metrics for a StereoFrameResult.
 //
 // Ground truth of a landmark: the sphere point S hit by the ray of its
 // undistorted LEFT pixel. Depth (the dominant error) is then exact; laterally

@@ -1,4 +1,4 @@
-// The accuracy criteria on rendered globe stereo pairs (hapi_sim),
+// The front end's accuracy criteria on rendered globe stereo pairs (hapi_sim),
 // on frames along the sim trajectory that were NOT used to estimate the
 // default pixel_sigma (those were t = 1.0 + 0.8 k, k < 30):
 //  >= 150 landmarks per frame, median 3D error <= 1 % of depth,

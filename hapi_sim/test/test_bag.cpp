@@ -1,6 +1,6 @@
 // Tests of make_globe_bag (the embedded default data set) through its bag:
 // determinism, topics/types/counts/rates, calibration round trip, ground-truth
-// and IMU consistency, and the geometric check of issue 2: a known sphere
+// and IMU consistency, and the geometric check of the renderer: a known sphere
 // point projected with the bag's CameraInfo and ground-truth pose lands on the
 // rendered texture position (sub-pixel, measured by Lucas-Kanade alignment of
 // the image against a prediction built from the bag's own calibration).

@@ -1,4 +1,4 @@
-// Data association of one frame against the landmark pool (DESIGN.md "Gate
+// Data association of one frame against the landmark pool (docs/DESIGN.md "Gate
 // each association"): descriptor best/second-best with a Hamming threshold and
 // a ratio test, then a chi^2(3) Mahalanobis gate with S_j = H_j M_j H_j^T + C_z
 // built from the backend's 9x9 marginals, then one measurement per landmark

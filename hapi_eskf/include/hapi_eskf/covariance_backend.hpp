@@ -38,7 +38,7 @@
 
 namespace hapi_eskf {
 
-// One 3-row block of the measurement Jacobian H (DESIGN.md "Update"): it has
+// One 3-row block of the measurement Jacobian H (docs/DESIGN.md "Update"): it has
 // non-zeros only in the 6 pose columns [dp, dtheta] and the 3 columns of `slot`.
 struct MeasurementBlock {
   int slot = -1;
@@ -49,7 +49,7 @@ struct MeasurementBlock {
 };
 
 // A landmark initialised from one measurement: m = p + R(q) z, so
-// dm = G_pose [dp, dtheta] + G_z dz (DESIGN.md "New landmark").
+// dm = G_pose [dp, dtheta] + G_z dz (docs/DESIGN.md "New landmark").
 struct NewLandmarkBlock {
   Mat36 G_pose = Mat36::Zero();
   Mat3 G_z = Mat3::Identity();
@@ -87,7 +87,7 @@ class CovarianceBackend {
   // [0, K).
   Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const;
 
-  // Joint update with all blocks (DESIGN.md steps 1-4): P = C H^T by gather,
+  // Joint update with all blocks (docs/DESIGN.md "Update" steps 1-4): P = C H^T by gather,
   // S = H P + R, Cholesky S = L L^T, A = P L^-T, y = L^-1 innovation,
   // dx = A y (returned, length stateDim(K)), C <- C - A A^T.
   // Input: kEmptyInput (no blocks), kInvalidArgument (null dx),

@@ -1,4 +1,4 @@
-// The error-state EKF over camera pose + landmark pool (DESIGN.md "Filter").
+// The error-state EKF over camera pose + landmark pool (docs/DESIGN.md "Filter").
 // Host side: nominal state, landmark bookkeeping (ids, positions, colours,
 // statistics), Jacobians and association logic. The covariance and the
 // descriptors live in a CovarianceBackend (CPU or GPU).

@@ -1,6 +1,6 @@
 // One gyro-driven prediction step: argument checks, the step of the motion
-// model with w replaced by the gyro (jacobians.hpp gyroStep, DESIGN.md
-// "Predict") and the commit of the new pose and time. Eskf::predictWithGyro
+// model with w replaced by the gyro (jacobians.hpp gyroStep, docs/DESIGN.md
+// "Gyro prediction") and the commit of the new pose and time. Eskf::predictWithGyro
 // (covariance in the backend) and the nodelet's IMU-rate PosePropagator (its
 // own 12 x 12 pose covariance) both run this one path, so the copy cannot
 // step or reject differently from the filter.

@@ -1,4 +1,4 @@
-// Nominal-state models and their error-state Jacobians (DESIGN.md "Filter").
+// Nominal-state models and their error-state Jacobians (docs/DESIGN.md "Filter").
 // Every Jacobian here is checked against central finite differences in
 // test/test_jacobians.cpp (the thesis's printed equations contain typos).
 #pragma once
@@ -8,7 +8,7 @@
 
 namespace hapi_eskf {
 
-// Constant-velocity step of length dt (DESIGN.md "Predict"):
+// Constant-velocity step of length dt (docs/DESIGN.md "Predict"):
 //   p <- p + R v dt; R <- R Exp(w dt); v <- Gamma^dt v; w <- Lambda^dt w.
 PoseState predictPose(const PoseState& x, double dt, const EskfSettings& s);
 

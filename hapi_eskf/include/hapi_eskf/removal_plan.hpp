@@ -1,4 +1,4 @@
-// Which landmark ends up in which slot after a removal (DESIGN.md "Removal":
+// Which landmark ends up in which slot after a removal (docs/DESIGN.md "Removal":
 // fixed slots, no shifting). The backends, the filter's host mirror and the
 // benchmark all apply this one plan, so their slot orders never diverge.
 //

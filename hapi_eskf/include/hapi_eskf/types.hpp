@@ -18,7 +18,7 @@ using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Mat36 = Eigen::Matrix<double, 3, 6>;
 using Mat9 = Eigen::Matrix<double, 9, 9>;
 
-// Error-state layout (DESIGN.md "Filter"): [dp, dtheta, dv, dw, dm_0, dm_1, ...].
+// Error-state layout (docs/DESIGN.md "State and error state"): [dp, dtheta, dv, dw, dm_0, dm_1, ...].
 constexpr int kPoseDim = 12;
 constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;
 inline int landmarkRow(int slot) { return kPoseDim + 3 * slot; }

@@ -1,4 +1,4 @@
-// Eigen reference backend (DESIGN.md "Update", "New landmark", "Removal").
+// Eigen reference backend (docs/DESIGN.md "CPU reference backend", "Update", "New landmark", "Removal").
 // Storage: one capacity-sized column-major buffer (N = 12 + 3*capacity square);
 // the live state is its top-left n x n corner, landmarks in contiguous slots,
 // and only the LOWER triangle of that corner is authoritative (the SYRK-style

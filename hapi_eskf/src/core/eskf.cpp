@@ -1,5 +1,5 @@
 // Host side of the filter: nominal state, bookkeeping and the iteration of
-// DESIGN.md "Filter". The covariance lives in the backend.
+// docs/DESIGN.md "One iteration". The covariance lives in the backend.
 //
 // Policies (documented choices):
 //  * An empty frame returns kEmptyInput and does nothing (not even predict):

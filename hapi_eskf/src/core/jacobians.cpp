@@ -1,4 +1,4 @@
-// Models and Jacobians of DESIGN.md "Filter". Error convention:
+// Models and Jacobians of docs/DESIGN.md "State and error state". Error convention:
 //   p = p^ + dp, R = R^ Exp(dtheta), v = v^ + dv, w = w^ + dw, m = m^ + dm.
 // Each Jacobian below is derived to first order in that convention; the
 // derivations are repeated next to the code and checked numerically in

@@ -1,4 +1,4 @@
-// Own kernels of the update, predict and read-back paths (DESIGN.md "Filter").
+// Own kernels of the update, predict and read-back paths (docs/DESIGN.md "CUDA backend").
 // All of them touch O(n) or O(m^2) elements; the O(n^2 m) work is cuBLAS's.
 #include "kernels.cuh"
 

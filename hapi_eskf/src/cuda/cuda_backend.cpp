@@ -1,4 +1,4 @@
-// CUDA implementation of CovarianceBackend (DESIGN.md "Filter"): C lives on the
+// CUDA implementation of CovarianceBackend (docs/DESIGN.md "CUDA backend"): C lives on the
 // device for the whole run (capacity-sized, column-major, ld = 12 + 3 capacity
 // rounded up to 32 elements, lower triangle authoritative); only dx (length
 // n), the 3m-vector y and small blocks cross the bus inside the filter loop.

@@ -1,4 +1,4 @@
-// Association and descriptor bookkeeping kernels (DESIGN.md "Gate each
+// Association and descriptor bookkeeping kernels (docs/DESIGN.md "Gate each
 // association": the descriptor stage that precedes the Mahalanobis gate).
 #include "kernels.cuh"
 

@@ -21,7 +21,7 @@ struct Mat12Param {
   double a[144];  // row-major
 };
 
-// --- update (DESIGN.md "Update" steps 1-2) ---------------------------------
+// --- update (docs/DESIGN.md "Update" steps 1-2) ----------------------------
 // P(:, 3j + r) = C H_j^T for every measurement block j (9 non-zero columns):
 // H_j = [Hp_j (3x6 pose) | Hl_j (3x3 at slot_j)]. `H` holds 27 values per
 // block, row-major Hp then row-major Hl. P is n x 3m with leading dim ldP.
@@ -44,7 +44,7 @@ cudaError_t launchCountNonFinite(const T* x, std::size_t count, int* flag, cudaS
 template <typename T>
 cudaError_t launchZeroStrictUpper(T* M, int n, cudaStream_t stream);
 
-// --- predict (DESIGN.md "Predict") --------------------------------------------
+// --- predict (docs/DESIGN.md "Predict") ---------------------------------------
 // C_pp <- F C_pp F^T + Q, C_mp <- C_mp F^T (rows 12..n-1), lower triangle.
 template <typename T>
 cudaError_t launchPredict(T* C, std::size_t ld, int n, const Mat12Param& F, const Mat12Param& Q,
@@ -59,7 +59,7 @@ cudaError_t launchMarginals(const T* C, std::size_t ld, const int* slots, int co
 template <typename T>
 cudaError_t launchLandmarkBlocks(const T* C, std::size_t ld, int K, double* out, cudaStream_t stream);
 
-// --- bookkeeping (DESIGN.md "New landmark", "Removal") ---------------------------
+// --- bookkeeping (docs/DESIGN.md "New landmark", "Removal") ----------------------
 // Appends m landmarks after the first n_old rows: G holds 18 values per block
 // (row-major G_pose, 3x6); Nz holds 9 per block (G_z Cz G_z^T, row-major).
 template <typename T>

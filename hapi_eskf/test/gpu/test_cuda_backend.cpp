@@ -155,7 +155,7 @@ TEST(CudaBackend, EmptyPoolAndNoQueriesLikeCpu) {
   EXPECT_TRUE(og.empty());
 }
 
-// The parity requirement: 100 iterations of predict / match / update /
+// The backend parity requirement (docs/DESIGN.md "Parity tests"): 100 iterations of predict / match / update /
 // remove / add with every state compared after every iteration, for each
 // schedule of the rank update and each way of forming A = P L^-T
 // (EskfSettings::cuda_rank_update, cuda_solve). The pool stays below the

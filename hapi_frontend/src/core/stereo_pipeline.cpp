@@ -1,6 +1,6 @@
 // StereoPipeline: grey/downscale -> detect L/R -> undistort keypoints ->
 // F from the rig -> match -> N strongest -> two-step MMSE -> depth gate ->
-// colour (DESIGN.md "Front end"). Bad images give a reason string, never an
+// colour (docs/DESIGN.md "Front end"). Bad images give a reason string, never an
 // exception.
 #include "hapi_frontend/stereo_pipeline.hpp"
 

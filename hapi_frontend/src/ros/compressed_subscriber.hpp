@@ -1,7 +1,7 @@
 // image_transport "compressed" subscriber plugin (sensor_msgs/CompressedImage,
 // JPEG or PNG, on <base topic>/compressed) for the front end.
 //
-// Why our own: the issue requires compressed transport through
+// Why our own: a camera driver on the robot publishes compressed images through
 // image_transport, and Debian packages only the "raw" transport (no
 // compressed_image_transport). The plugin registers the standard lookup name
 // image_transport/compressed_sub, so ~image_transport: compressed works as on

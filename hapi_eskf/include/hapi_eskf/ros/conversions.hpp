@@ -41,7 +41,7 @@ CameraInMap toCameraInMap(const PoseState& pose, const Eigen::Isometry3d& T_map_
 // T_map_cam with its covariance as geometry_msgs/PoseWithCovariance.
 // Covariance (ROS order [x y z rot_x rot_y rot_z], rotations about the fixed
 // axes of header.frame_id): the filter's error state is [dp (world), dtheta
-// (LOCAL, R = R_hat Exp(dtheta)), dv, dw (camera)] (DESIGN.md "Filter").
+// (LOCAL, R = R_hat Exp(dtheta)), dv, dw (camera)] (docs/DESIGN.md "State and error state").
 // R_hat Exp(dtheta) = Exp(R_hat dtheta) R_hat, so the global rotation error
 // is R_map_cam dtheta and the position error R_map_world dp:
 //   Sigma_pose = J C[0:6,0:6] J^T,  J = blockdiag(R_map_world, R_map_cam).

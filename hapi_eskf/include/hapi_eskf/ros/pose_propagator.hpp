@@ -10,7 +10,7 @@
 //
 // Exactness: the step is the filter's own code path (gyro_prediction.hpp,
 // which Eskf::predictWithGyro runs too: w replaced by the gyro for the step,
-// then the constant-velocity model, DESIGN.md "Predict"), and the pose block
+// then the constant-velocity model, docs/DESIGN.md "Gyro prediction"), and the pose block
 // of the filter covariance evolves as C_pp <- F C_pp F^T + Q
 // (predictPoseCovariance, as in the CPU backend), independently of the
 // landmark blocks. After the same samples this copy therefore equals the
