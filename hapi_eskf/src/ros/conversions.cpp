@@ -49,6 +49,25 @@ geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
   return t;
 }
 
+geometry_msgs::Pose toPoseMsg(const Vec3& p, const Eigen::Quaterniond& q) {
+  geometry_msgs::Pose out;
+  out.position.x = p.x();
+  out.position.y = p.y();
+  out.position.z = p.z();
+  out.orientation.w = q.w();
+  out.orientation.x = q.x();
+  out.orientation.y = q.y();
+  out.orientation.z = q.z();
+  return out;
+}
+
+void toCovarianceMsg(const Eigen::Matrix<double, 6, 6>& S, boost::array<double, 36>* out) {
+  // Symmetrised: the filter's blocks are symmetric only to rounding, and ROS
+  // consumers (rviz, robot_localization) factorise the message's matrix.
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) (*out)[6 * r + c] = 0.5 * (S(r, c) + S(c, r));
+}
+
 Eigen::Isometry3d CameraInMap::isometry() const {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = q.normalized().toRotationMatrix();
@@ -66,19 +85,11 @@ CameraInMap toCameraInMap(const PoseState& pose, const Eigen::Isometry3d& T_map_
 geometry_msgs::PoseWithCovariance toPoseWithCovariance(const CameraInMap& T_map_cam, const Mat12& C,
                                                        const Mat3& R_map_world) {
   geometry_msgs::PoseWithCovariance out;
-  out.pose.position.x = T_map_cam.p.x();
-  out.pose.position.y = T_map_cam.p.y();
-  out.pose.position.z = T_map_cam.p.z();
-  out.pose.orientation.w = T_map_cam.q.w();
-  out.pose.orientation.x = T_map_cam.q.x();
-  out.pose.orientation.y = T_map_cam.q.y();
-  out.pose.orientation.z = T_map_cam.q.z();
+  out.pose = toPoseMsg(T_map_cam.p, T_map_cam.q);
   Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
   J.block<3, 3>(0, 0) = R_map_world;
   J.block<3, 3>(3, 3) = T_map_cam.q.toRotationMatrix();
-  const Eigen::Matrix<double, 6, 6> S = J * C.block<6, 6>(kIdxP, kIdxP) * J.transpose();
-  for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 6; ++c) out.covariance[6 * r + c] = 0.5 * (S(r, c) + S(c, r));
+  toCovarianceMsg(J * C.block<6, 6>(kIdxP, kIdxP) * J.transpose(), &out.covariance);
   return out;
 }
 
@@ -95,9 +106,7 @@ geometry_msgs::TwistWithCovariance toTwistWithCovariance(const PoseState& pose, 
   out.twist.angular.x = pose.w.x();
   out.twist.angular.y = pose.w.y();
   out.twist.angular.z = pose.w.z();
-  const Eigen::Matrix<double, 6, 6> S = C.block<6, 6>(kIdxV, kIdxV);
-  for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 6; ++c) out.covariance[6 * r + c] = 0.5 * (S(r, c) + S(c, r));
+  toCovarianceMsg(C.block<6, 6>(kIdxV, kIdxV), &out.covariance);
   return out;
 }
 

@@ -2,6 +2,8 @@
 // which thread calls what).
 #include "hapi_eskf/ros/trajectory_recorder.hpp"
 
+#include "hapi_eskf/ros/conversions.hpp"
+
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Path.h>
 #include <ros/console.h>
@@ -36,13 +38,7 @@ void TrajectoryRecorder::record(const ros::Time& stamp, const CameraInMap& T_map
         geometry_msgs::PoseStamped p;
         p.header.stamp = ros::Time(s.stamp);
         p.header.frame_id = world_frame_;
-        p.pose.position.x = s.p.x();
-        p.pose.position.y = s.p.y();
-        p.pose.position.z = s.p.z();
-        p.pose.orientation.w = s.q.w();
-        p.pose.orientation.x = s.q.x();
-        p.pose.orientation.y = s.q.y();
-        p.pose.orientation.z = s.q.z();
+        p.pose = toPoseMsg(s.p, s.q);
         path.poses.push_back(p);
       }
     }

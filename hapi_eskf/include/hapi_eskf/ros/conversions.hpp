@@ -25,6 +25,11 @@ StereoFrame toStereoFrame(const hapi_msgs::StereoLandmarks& msg);
 // on the way in: TF carries it as four independent doubles).
 Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t);
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
+// A position + orientation as a geometry_msgs::Pose (the one place where an
+// Eigen pose becomes a message: odometry, pose and path share it).
+geometry_msgs::Pose toPoseMsg(const Vec3& p, const Eigen::Quaterniond& q);
+// A 6x6 covariance as the row-major, symmetrised array of ROS messages.
+void toCovarianceMsg(const Eigen::Matrix<double, 6, 6>& S, boost::array<double, 36>* out);
 
 // Pose of the camera in the published world frame: T_map_cam = T_map_world *
 // T_world_cam, where `world` is the filter's world (the first camera) and
