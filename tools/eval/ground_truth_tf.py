@@ -16,6 +16,8 @@ ground truth as a nav_msgs/Path in `world` (~path, default
 /ground_truth/path) for rviz. Visual comparison only: the metrics use a least
 squares alignment of the whole trajectory (tools/eval/evaluation.py).
 """
+import os
+import sys
 import threading
 
 import numpy as np
@@ -24,15 +26,8 @@ import tf2_ros
 from geometry_msgs.msg import PoseStamped, TransformStamped
 from nav_msgs.msg import Odometry, Path
 
-
-def quat_to_rot(x, y, z, w):
-    n = np.sqrt(x * x + y * y + z * z + w * w)
-    x, y, z, w = x / n, y / n, z / n, w / n
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from evaluation import quat_to_rot  # noqa: E402  (installed next to this node)
 
 
 def rot_to_quat(r):
@@ -55,7 +50,7 @@ def rot_to_quat(r):
 def pose_to_matrix(pose):
     t = np.eye(4)
     o, p = pose.orientation, pose.position
-    t[:3, :3] = quat_to_rot(o.x, o.y, o.z, o.w)
+    t[:3, :3] = quat_to_rot((o.x, o.y, o.z, o.w))
     t[:3, 3] = [p.x, p.y, p.z]
     return t
 
