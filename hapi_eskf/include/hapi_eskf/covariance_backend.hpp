@@ -152,9 +152,5 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
 // cuda_device setting) is usable. *why names the device and either describes
 // it or says why it cannot be used.
 bool cudaBackendAvailable(int device, std::string* why);
-// Device 0 only. Callers with settings must pass their cuda_device instead;
-// kept until the nodelet's start-up check does.
-[[deprecated("pass the configured device: cudaBackendAvailable(settings.cuda_device, why)")]]
-bool cudaBackendAvailable(std::string* why);
 
 }  // namespace hapi_eskf

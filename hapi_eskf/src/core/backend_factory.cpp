@@ -22,8 +22,6 @@ bool cudaBackendAvailable(int device, std::string* why) {
 #endif
 }
 
-bool cudaBackendAvailable(std::string* why) { return cudaBackendAvailable(0, why); }
-
 std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descriptor_length, std::string* error) {
   const std::string bad = s.validate();
   if (!bad.empty()) {

@@ -12,7 +12,7 @@
 
 #include <sys/stat.h>
 
-#include <stdexcept>
+#include <cstdint>
 #include <vector>
 
 namespace hapi_eskf {
@@ -38,44 +38,12 @@ EskfNodelet::~EskfNodelet() {
 void EskfNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
-
-  const std::string err = ros_glue::loadParams(pnh, &params_);
-  if (!err.empty()) {
-    NODELET_FATAL("invalid parameters: %s", err.c_str());
-    throw std::runtime_error("hapi_eskf/EskfNodelet: invalid parameters: " + err);
-  }
-  if (!params_.unknown.empty()) {
-    std::string names;
-    for (const std::string& n : params_.unknown) names += (names.empty() ? "~" : ", ~") + n;
-    NODELET_WARN("unknown parameter(s) ignored: %s (misspelled? every parameter is listed in config/eskf.yaml)",
-                 names.c_str());
-  }
-  // Fail at start-up, not at the first frame, when the requested backend
-  // cannot run (the descriptor length is only known from the first message).
-  if (params_.filter.backend == BackendKind::kCuda) {
-    std::string why;
-    if (!cudaBackendAvailable(&why)) {
-      if (!params_.allow_cpu_fallback) {
-        NODELET_FATAL("~backend=cuda but CUDA is unavailable (%s) and ~allow_cpu_fallback is false", why.c_str());
-        throw std::runtime_error("hapi_eskf/EskfNodelet: CUDA backend unavailable: " + why);
-      }
-      NODELET_WARN("*** ~backend=cuda but CUDA is unavailable (%s): FALLING BACK TO THE CPU BACKEND "
-                   "(set ~allow_cpu_fallback:=false to make this fatal) ***",
-                   why.c_str());
-      params_.filter.backend = BackendKind::kCpu;
-    }
-  }
-  {
-    struct stat st {};
-    if (stat(params_.output_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-      NODELET_WARN("~output_dir '%s' is not an existing directory: ~save_map/~save_trajectory will fail",
-                   params_.output_dir.c_str());
-  }
+  if (!checkStartup()) return;  // inert: nothing below is started
 
   validation_.max_measurements = static_cast<std::uint32_t>(params_.max_measurements_per_msg);
   validation_.expected_frame = params_.camera_frame;
   camera_frame_ = params_.camera_frame;
-  stamp_guard_ = std::make_unique<ros_glue::StampGuard>(params_.time_jump_reset);
+  stamp_guard_ = std::make_unique<hapi_nodelet_kit::StampGuard>(params_.time_jump_reset);
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   // Listen only when a lookup is needed (IMU mounting, base frame): otherwise
@@ -101,8 +69,8 @@ void EskfNodelet::onInit() {
   save_traj_srv_ = pnh.advertiseService("save_trajectory", &ros_glue::TrajectoryRecorder::save, trajectory_.get());
 
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
-  updater_->setHardwareID("hapi_eskf");
-  updater_->add("filter", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  updater_->setHardwareID(kHardwareId);
+  updater_->add(kStatusName, [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stats_->diagnose(stat, mailbox_.dropped());
   });
   diag_timer_ = nh.createWallTimer(ros::WallDuration(params_.diagnostics_period),
@@ -125,6 +93,38 @@ void EskfNodelet::onInit() {
                params_.base_frame.c_str(), params_.use_imu ? params_.imu_topic.c_str() : "off");
 }
 
+bool EskfNodelet::checkStartup() {
+  hapi_nodelet_kit::ParamReader reader(getPrivateNodeHandle());
+  ros_glue::readParams(reader, &params_);
+  for (const std::string& w : reader.warnings()) NODELET_WARN("%s", w.c_str());
+  if (!reader.ok()) {
+    startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(), "invalid parameters", reader.errors());
+    return false;
+  }
+  // Fail at start-up, not at the first frame, when the requested backend
+  // cannot run (the descriptor length is only known from the first message).
+  if (params_.filter.backend == BackendKind::kCuda) {
+    std::string why;
+    if (!cudaBackendAvailable(params_.filter.cuda_device, &why)) {
+      if (!params_.allow_cpu_fallback) {
+        startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(), "CUDA backend unavailable",
+                        {"~backend=cuda without a usable ~cuda_device (" + why +
+                         ") and ~allow_cpu_fallback is false (true: run on the cpu backend instead)"});
+        return false;
+      }
+      NODELET_WARN("*** ~backend=cuda but CUDA is unavailable (%s): FALLING BACK TO THE CPU BACKEND "
+                   "(set ~allow_cpu_fallback:=false to make this a start-up failure) ***",
+                   why.c_str());
+      params_.filter.backend = BackendKind::kCpu;
+    }
+  }
+  struct stat st {};
+  if (stat(params_.output_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    NODELET_WARN("~output_dir '%s' is not an existing directory: ~save_map/~save_trajectory will fail",
+                 params_.output_dir.c_str());
+  return true;
+}
+
 // ---------------------------------------------------------------- callbacks
 
 void EskfNodelet::reject(Reject r, const std::string& detail) {
@@ -142,14 +142,15 @@ void EskfNodelet::landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& 
       reject(v.reason, v.detail);
       return;
     }
-    const ros_glue::StampCheck sc = stamp_guard_->check(msg->header.stamp.toSec());
-    if (sc == ros_glue::StampCheck::kReject) {
+    const hapi_nodelet_kit::StampCheck sc =
+        stamp_guard_->check(static_cast<std::int64_t>(msg->header.stamp.toNSec()));
+    if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReject) {
       reject(Reject::kStampBackwards, "stamp " + std::to_string(msg->header.stamp.toSec()) +
                                           " not newer than the last accepted " +
-                                          std::to_string(stamp_guard_->last()));
+                                          std::to_string(static_cast<double>(sc.previous_ns) * 1e-9));
       return;
     }
-    if (sc == ros_glue::StampCheck::kReset) {
+    if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReset) {
       ++stats_->counters.time_jumps;
       NODELET_WARN("time jumped backwards (bag loop / clock reset) to %.3f: resetting the filter and the path",
                    msg->header.stamp.toSec());

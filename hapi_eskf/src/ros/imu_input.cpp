@@ -7,6 +7,7 @@
 #include <ros/console.h>
 
 #include <cmath>
+#include <cstdint>
 #include <utility>
 
 namespace hapi_eskf {
@@ -14,12 +15,12 @@ namespace ros_glue {
 
 ImuInput::ImuInput(const NodeletParams& params, const tf2_ros::Buffer& tf, NodeletStatistics& stats,
                    std::string log_name)
-    : time_jump_reset_(params.time_jump_reset),
-      buffer_size_(params.imu_buffer_size),
+    : buffer_size_(params.imu_buffer_size),
       tf_(tf),
       stats_(stats),
       log_name_(std::move(log_name)),
-      camera_frame_(params.camera_frame) {}
+      camera_frame_(params.camera_frame),
+      stamp_guard_(params.time_jump_reset) {}
 
 void ImuInput::setCameraFrame(const std::string& camera_frame) {
   std::lock_guard<std::mutex> lk(mu_);
@@ -39,16 +40,16 @@ std::optional<ImuSample> ImuInput::accept(const sensor_msgs::Imu& msg) {
     ++stats_.counters.imu_dropped;
     return std::nullopt;
   }
-  if (last_stamp_ >= 0.0 && last_stamp_ - stamp > time_jump_reset_) {
-    buffer_.clear();  // samples of the old timeline would never be consumed
-  } else if (last_stamp_ >= 0.0 && stamp <= last_stamp_) {
+  const hapi_nodelet_kit::StampCheck sc = stamp_guard_.check(static_cast<std::int64_t>(msg.header.stamp.toNSec()));
+  if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReject) {
     // The buffer is kept in stamp order (the propagation relies on it).
     ++stats_.counters.imu_dropped;
     ROS_WARN_THROTTLE_NAMED(2.0, log_name_, "IMU sample at %.6f not newer than the previous one (%.6f): dropped",
-                            stamp, last_stamp_);
+                            stamp, static_cast<double>(sc.previous_ns) * 1e-9);
     return std::nullopt;
   }
-  last_stamp_ = stamp;
+  if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReset)
+    buffer_.clear();  // samples of the old timeline would never be consumed
   const std::string& f = msg.header.frame_id;
   auto it = imu_to_camera_.find(f);
   if (it == imu_to_camera_.end()) {

@@ -1,7 +1,10 @@
-// rostest (eskf_nodelet_startup.test): parameters are validated at start-up
-// with a clear FATAL message and the nodelet refuses to load; ~backend=cuda
-// without a usable GPU is fatal with ~allow_cpu_fallback:=false and a loudly
-// logged fallback to the CPU backend (reported in /diagnostics) otherwise.
+// rostest (eskf_nodelet_startup.test): parameters are validated at start-up;
+// an invalid one is a start-up failure (hapi_nodelet_kit/startup_failure.hpp):
+// a clear FATAL message, the nodelet stays loaded but inert (ERROR "not
+// running" on /diagnostics, no subscription). ~backend=cuda without a usable
+// GPU is the same start-up failure with ~allow_cpu_fallback:=false and a
+// loudly logged fallback to the CPU backend (reported in /diagnostics)
+// otherwise.
 #include "hapi_eskf/covariance_backend.hpp"
 #include "synthetic_frames.hpp"
 
@@ -15,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <map>
 #include <mutex>
 
@@ -23,6 +27,7 @@ namespace {
 std::mutex mu;
 std::vector<rosgraph_msgs::Log> logs;
 std::map<std::string, std::map<std::string, std::string>> diag;  // status name -> values
+std::vector<diagnostic_msgs::DiagnosticStatus> statuses;         // every status received
 
 void onLog(const rosgraph_msgs::Log::ConstPtr& m) {
   std::lock_guard<std::mutex> lk(mu);
@@ -32,6 +37,7 @@ void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
   std::lock_guard<std::mutex> lk(mu);
   for (const auto& s : m->status)
     for (const auto& kv : s.values) diag[s.name][kv.key] = kv.value;
+  statuses.insert(statuses.end(), m->status.begin(), m->status.end());
 }
 template <typename P>
 bool waitFor(P p, double s) {
@@ -55,6 +61,27 @@ std::string diagValue(const std::string& nodelet, const std::string& key) {
   return "";
 }
 
+// The nodelet's "filter" status was ERROR with a message starting "not running".
+bool reportsNotRunning(const std::string& nodelet, double timeout = 5.0) {
+  const std::string name = nodelet.substr(1) + ": filter";  // diagnostic_updater drops the leading '/'
+  return waitFor([&] {
+    std::lock_guard<std::mutex> lk(mu);
+    return std::any_of(statuses.begin(), statuses.end(), [&](const diagnostic_msgs::DiagnosticStatus& st) {
+      return st.name == name && st.level == diagnostic_msgs::DiagnosticStatus::ERROR &&
+             st.message.rfind("not running", 0) == 0;
+    });
+  }, timeout);
+}
+
+// Subscribers on the nodelet's `landmarks` input that a publisher sees after a
+// wait long enough for a running nodelet to connect.
+std::uint32_t landmarksSubscribers(const std::string& nodelet) {
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<hapi_msgs::StereoLandmarks>(nodelet + "/landmarks", 1);
+  waitFor([&] { return pub.getNumSubscribers() > 0; }, 3.0);
+  return pub.getNumSubscribers();
+}
+
 bool load(const std::string& name) {
   nodelet::NodeletLoad srv;
   srv.request.name = name;
@@ -74,7 +101,7 @@ bool isLoaded(const std::string& name) {
 
 }  // namespace
 
-TEST(EskfNodeletStartup, InvalidParametersRefuseToLoadWithAClearError) {
+TEST(EskfNodeletStartup, InvalidParametersLeaveTheNodeletInertWithAClearError) {
   struct Case {
     std::string name, expected;
   };
@@ -91,9 +118,11 @@ TEST(EskfNodeletStartup, InvalidParametersRefuseToLoadWithAClearError) {
       {"/bad_filter", "gate_chi2"},
   };
   for (const Case& c : cases) {
-    EXPECT_FALSE(load(c.name)) << c.name << " loaded despite an invalid parameter";
+    EXPECT_TRUE(load(c.name)) << c.name << ": an invalid parameter must leave the nodelet loaded (inert)";
     EXPECT_TRUE(logged(rosgraph_msgs::Log::FATAL, "invalid parameters: " + c.expected)) << c.name;
-    EXPECT_FALSE(isLoaded(c.name)) << c.name;
+    EXPECT_TRUE(isLoaded(c.name)) << c.name;
+    EXPECT_TRUE(reportsNotRunning(c.name)) << c.name << ": no ERROR \"not running\" on /diagnostics";
+    EXPECT_EQ(landmarksSubscribers(c.name), 0u) << c.name << " subscribed to its input despite an invalid parameter";
   }
   // The manager survived every refusal and still loads a valid nodelet; a
   // misspelled name does not stop it but is named in a warning.
@@ -102,6 +131,8 @@ TEST(EskfNodeletStartup, InvalidParametersRefuseToLoadWithAClearError) {
   EXPECT_TRUE(load("/good"));
   EXPECT_TRUE(isLoaded("/good"));
   EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "unknown parameter(s) ignored: ~max_landmark ("));
+  // The check above can see a subscriber: the valid nodelet has one.
+  EXPECT_EQ(landmarksSubscribers("/good"), 1u);
 }
 
 TEST(EskfNodeletStartup, CudaWithoutDeviceIsFatalOrAnAnnouncedCpuFallback) {
@@ -111,8 +142,15 @@ TEST(EskfNodeletStartup, CudaWithoutDeviceIsFatalOrAnAnnouncedCpuFallback) {
 
   ros::param::set("/cuda_strict/backend", std::string("cuda"));
   ros::param::set("/cuda_strict/allow_cpu_fallback", false);
-  EXPECT_EQ(load("/cuda_strict"), cuda);
-  if (!cuda) EXPECT_TRUE(logged(rosgraph_msgs::Log::FATAL, "~allow_cpu_fallback is false"));
+  EXPECT_TRUE(load("/cuda_strict"));
+  EXPECT_TRUE(isLoaded("/cuda_strict"));
+  if (!cuda) {
+    EXPECT_TRUE(logged(rosgraph_msgs::Log::FATAL, "~allow_cpu_fallback is false"));
+    EXPECT_TRUE(reportsNotRunning("/cuda_strict"));
+    EXPECT_EQ(landmarksSubscribers("/cuda_strict"), 0u) << "/cuda_strict subscribed without a usable GPU";
+  } else {
+    EXPECT_EQ(landmarksSubscribers("/cuda_strict"), 1u) << "/cuda_strict does not run despite a usable GPU";
+  }
 
   ros::param::set("/cuda_fallback/backend", std::string("cuda"));
   ros::param::set("/cuda_fallback/allow_cpu_fallback", true);

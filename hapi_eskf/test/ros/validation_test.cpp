@@ -1,4 +1,5 @@
-// Every Reject reason of validateLandmarks, plus the stamp guard.
+// Every Reject reason of validateLandmarks. (The stamp order rule,
+// Reject::kStampBackwards, is hapi_nodelet_kit's StampGuard, tested there.)
 #include "hapi_eskf/ros/validation.hpp"
 
 #include <gtest/gtest.h>
@@ -113,17 +114,4 @@ TEST(Validation, DuplicateId) {
 
 TEST(Validation, EveryReasonHasAName) {
   for (int r = 0; r < kRejectCount; ++r) EXPECT_STRNE(rejectName(static_cast<Reject>(r)), "unknown");
-}
-
-TEST(StampGuard, AcceptRejectReset) {
-  StampGuard g(1.0);
-  EXPECT_EQ(g.check(10.0), StampCheck::kAccept);
-  EXPECT_EQ(g.check(10.1), StampCheck::kAccept);
-  EXPECT_EQ(g.check(10.1), StampCheck::kReject);  // duplicate: would use the measurements twice
-  EXPECT_EQ(g.check(9.5), StampCheck::kReject);   // reordered, small
-  EXPECT_EQ(g.last(), 10.1);
-  EXPECT_EQ(g.check(2.0), StampCheck::kReset);    // bag loop
-  EXPECT_EQ(g.check(2.1), StampCheck::kAccept);
-  g.clear();
-  EXPECT_EQ(g.check(0.5), StampCheck::kAccept);
 }

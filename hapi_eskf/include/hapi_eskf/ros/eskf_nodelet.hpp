@@ -8,24 +8,31 @@
 //   ImuInput           ~use_imu: sample checks, mounting rotation, buffer (imu_input.hpp)
 //   NodeletStatistics  counters, stage timings, /diagnostics (statistics.hpp)
 //
+// Start-up: ~ parameters are read and checked once (params.hpp); an invalid
+// one, or ~backend=cuda without a usable device while ~allow_cpu_fallback is
+// false, is a start-up failure: the nodelet stays loaded but inert, with
+// FATAL lines and an ERROR "filter" status on /diagnostics
+// (hapi_nodelet_kit/startup_failure.hpp, the policy of every HAPI nodelet).
+//
 // Threads: ROS callbacks only validate and convert (O(N), no filter access);
-// they post the frame into a newest-wins Mailbox. One worker thread owns the
-// filter (all Eskf calls, so GPU work never blocks a callback), publishes
-// odom/pose/path/TF per frame and refreshes the map snapshot that a wall
-// timer publishes at ~map_publish_rate. With ~use_imu the IMU callback
-// publishes odom/pose/TF once per gyro sample from a propagated copy of the
-// pose (pose_propagator.hpp, a 12x12 step, never the filter): outputs at the
-// IMU rate that keep flowing while the worker is busy with a frame.
+// they post the frame into a newest-wins hapi_nodelet_kit::Mailbox. One
+// worker thread owns the filter (all Eskf calls, so GPU work never blocks a
+// callback), publishes odom/pose/path/TF per frame and refreshes the map
+// snapshot that a wall timer publishes at ~map_publish_rate. With ~use_imu
+// the IMU callback publishes odom/pose/TF once per gyro sample from a
+// propagated copy of the pose (pose_propagator.hpp, a 12x12 step, never the
+// filter): outputs at the IMU rate that keep flowing while the worker is busy
+// with a frame.
 //
 // Resets (service ~reset, or a stamp jumping backwards by more than
-// ~time_jump_reset) bump an epoch; frames carry the epoch they were accepted
-// in, and the worker resets the filter when it sees a newer epoch, so a frame
-// of the old timeline can never reach the fresh filter.
+// ~time_jump_reset: hapi_nodelet_kit::StampGuard) bump an epoch; frames carry
+// the epoch they were accepted in, and the worker resets the filter when it
+// sees a newer epoch, so a frame of the old timeline can never reach the
+// fresh filter.
 #pragma once
 
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"
-#include "hapi_eskf/ros/mailbox.hpp"
 #include "hapi_eskf/ros/map_publisher.hpp"
 #include "hapi_eskf/ros/output_publisher.hpp"
 #include "hapi_eskf/ros/params.hpp"
@@ -35,6 +42,9 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <hapi_msgs/StereoLandmarks.h>
+#include <hapi_nodelet_kit/mailbox.hpp>
+#include <hapi_nodelet_kit/stamp_guard.hpp>
+#include <hapi_nodelet_kit/startup_failure.hpp>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
@@ -57,6 +67,11 @@ class EskfNodelet : public nodelet::Nodelet {
   ~EskfNodelet() override;
 
  private:
+  // The /diagnostics status of the filter ("<node>: filter"), also the one
+  // that reports a start-up failure.
+  static constexpr const char* kStatusName = "filter";
+  static constexpr const char* kHardwareId = "hapi_eskf";
+
   struct Work {
     StereoFrame frame;
     std::string frame_id;
@@ -65,6 +80,8 @@ class EskfNodelet : public nodelet::Nodelet {
   };
 
   void onInit() override;
+  // The start-up checks; false when the nodelet must not run (reported).
+  bool checkStartup();
   void landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& msg);
   void imuCallback(const sensor_msgs::Imu::ConstPtr& msg);
   bool resetService(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
@@ -89,13 +106,14 @@ class EskfNodelet : public nodelet::Nodelet {
   std::unique_ptr<ros_glue::TrajectoryRecorder> trajectory_;
   std::unique_ptr<ros_glue::MapPublisher> map_;
 
-  // Landmarks callback state (and ~reset's stamp guard clear).
+  // Landmarks callback state (and ~reset's stamp guard clear): the guard owns
+  // its lock, input_mu_ makes its verdict and the epoch read one step.
   std::mutex input_mu_;
   ros_glue::ValidationConfig validation_;
-  std::unique_ptr<ros_glue::StampGuard> stamp_guard_;
+  std::unique_ptr<hapi_nodelet_kit::StampGuard> stamp_guard_;
   std::string camera_frame_;  // locked by ~camera_frame or the first accepted message
 
-  ros_glue::Mailbox<Work> mailbox_;
+  hapi_nodelet_kit::Mailbox<Work> mailbox_;
   std::atomic<std::uint64_t> epoch_{0};         // bumped by every reset request
   std::atomic<std::uint64_t> worker_epoch_{0};  // the epoch the filter runs in
   std::thread worker_;
@@ -108,6 +126,8 @@ class EskfNodelet : public nodelet::Nodelet {
 
   // Entry points, declared last so that they go first: the destructor stops
   // them (and joins the worker) before any member they use is destroyed.
+  // startup_ reports a start-up failure (then nothing else is started).
+  hapi_nodelet_kit::StartupFailure startup_{kStatusName, kHardwareId};
   ros::Subscriber landmarks_sub_, imu_sub_;
   ros::ServiceServer reset_srv_, save_map_srv_, save_traj_srv_;
   ros::WallTimer map_timer_, diag_timer_;

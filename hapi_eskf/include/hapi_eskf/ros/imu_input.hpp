@@ -3,16 +3,20 @@
 // mounting rotation is looked up in TF once per IMU frame_id and cached,
 // static mounting assumed) and keeps the samples, in strictly increasing
 // stamp order, until the worker consumes them for the filter's prediction.
+// Stamp order is the landmarks input's rule (hapi_nodelet_kit::StampGuard
+// with ~time_jump_reset): a sample not after the previous one is dropped, a
+// jump back beyond ~time_jump_reset starts a new timeline.
 //
 // Threads: the IMU callback calls accept(); the landmarks callback tells the
 // camera frame once it is known; the worker takes, drops and reads samples.
-// mu_ guards everything.
+// mu_ guards everything else (the guard owns its lock, taken inside mu_).
 #pragma once
 
 #include "hapi_eskf/ros/params.hpp"
 #include "hapi_eskf/ros/statistics.hpp"
 #include "hapi_eskf/types.hpp"
 
+#include <hapi_nodelet_kit/stamp_guard.hpp>
 #include <ros/time.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_ros/buffer.h>
@@ -45,8 +49,8 @@ class ImuInput {
   // --- IMU callback: the sample, in the camera frame and buffered; empty when
   // it was dropped (counted in imu_dropped): non-finite, before the camera
   // frame is known, not newer than the previous one, or no mounting TF yet.
-  // A stamp jumping back by more than ~time_jump_reset starts a new timeline
-  // (the old samples would never be consumed).
+  // A stamp jumping back by more than ~time_jump_reset starts a new timeline:
+  // the buffer is cleared (the old samples would never be consumed).
   std::optional<ImuSample> accept(const sensor_msgs::Imu& msg);
 
   // --- worker thread ---
@@ -56,7 +60,6 @@ class ImuInput {
   void clear();                                          // filter reset
 
  private:
-  const double time_jump_reset_;
   const int buffer_size_;
   const tf2_ros::Buffer& tf_;
   NodeletStatistics& stats_;
@@ -64,7 +67,7 @@ class ImuInput {
 
   mutable std::mutex mu_;
   std::string camera_frame_;
-  double last_stamp_ = -1.0;
+  hapi_nodelet_kit::StampGuard stamp_guard_;
   std::map<std::string, Eigen::Quaterniond> imu_to_camera_;  // cached static rotations
   std::deque<ImuSample> buffer_;
 };

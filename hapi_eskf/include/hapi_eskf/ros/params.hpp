@@ -1,19 +1,20 @@
 // Private (~) parameters of hapi_eskf/EskfNodelet, read and validated once at
 // start-up. The nodelet's own parameters are declared once in
 // nodelet_params.def, the filter's in eskf_settings.def (names, defaults,
-// ranges, units: hapi_eskf/field_table.hpp); config/eskf.yaml documents every
-// one of them with its default (checked by test/ros/params_yaml_rostest.cpp).
+// ranges, units: hapi_eskf/field_table.hpp); ~time_jump_reset belongs to the
+// stamp guard and is declared in hapi_nodelet_kit (stamp_guard.hpp), the same
+// in every nodelet. config/eskf.yaml documents every one of them with its
+// default (checked by test/ros/params_rostest.cpp).
 #pragma once
 
 #include "hapi_eskf/settings.hpp"
 
+#include <hapi_nodelet_kit/param_reader.hpp>
+#include <hapi_nodelet_kit/stamp_guard.hpp>
+
 #include <string>
 #include <type_traits>
 #include <vector>
-
-namespace ros {
-class NodeHandle;
-}
 
 namespace hapi_eskf {
 namespace ros_glue {
@@ -25,14 +26,17 @@ struct NodeletParams {
 #include "hapi_eskf/ros/nodelet_params.def"
 #undef HAPI_FIELD
 
-  // Set by loadParams: names under ~ that no parameter reads (typos such as
-  // ~max_landmark would otherwise be silently ignored); the nodelet warns.
+  // [s] the stamp guard's threshold (landmarks and IMU inputs).
+  double time_jump_reset = hapi_nodelet_kit::TimeJumpResetParam::kDefault;
+
+  // Set by readParams: names under ~ that no parameter reads (typos such as
+  // ~max_landmark would otherwise be silently ignored).
   std::vector<std::string> unknown;
 
-  // Empty when valid, else a message naming the offending parameter: the
-  // filter's settings, every field against its table range, then the rules
-  // between parameters (distinct frames, imu_topic with use_imu).
-  std::string validate() const;
+  // Every violated rule, each naming its parameter: the filter's settings,
+  // every field against its table range, then the rules between parameters
+  // (distinct frames, imu_topic with use_imu). Empty when valid.
+  std::vector<std::string> problems() const;
 };
 
 // Calls visit(const FieldInfo&, field) for every nodelet parameter of `p`
@@ -45,8 +49,8 @@ void forEachField(Params& p, Visitor&& visit) {
 #undef HAPI_FIELD
 }
 
-// Calls visit(const FieldInfo&, field) for every ~ parameter: the filter's
-// settings, then the nodelet's own.
+// Calls visit(const FieldInfo&, field) for every table parameter: the
+// filter's settings, then the nodelet's own.
 template <typename Params, typename Visitor,
           typename = std::enable_if_t<std::is_same<std::remove_const_t<Params>, NodeletParams>::value>>
 void forEachParameter(Params& p, Visitor&& visit) {
@@ -54,10 +58,16 @@ void forEachParameter(Params& p, Visitor&& visit) {
   forEachField(p, visit);
 }
 
-// Reads every parameter from `pnh` (defaults above). Returns an empty string on
-// success, else the error (wrong type, unknown enum value, out of range). A
-// present parameter of the wrong type is an error (ints are accepted for
-// doubles); names under ~ that no parameter reads are listed in out->unknown.
+// Reads every ~ parameter through `reader` into *out (the defaults above for
+// absent ones). A wrong type, an unknown enum name, a value out of range or a
+// broken rule between parameters is recorded as an error of `reader` (the
+// field keeps its default); names under ~ that nothing reads are named in a
+// warning of `reader` and listed in out->unknown.
+void readParams(hapi_nodelet_kit::ParamReader& reader, NodeletParams* out);
+
+// readParams on the parameter server below `pnh`. Returns "" and sets *out
+// when every parameter is valid, else the errors joined by "; " (*out
+// untouched).
 std::string loadParams(const ros::NodeHandle& pnh, NodeletParams* out);
 
 }  // namespace ros_glue

@@ -19,7 +19,7 @@ enum class Reject : int {
   kTooMany,            // N > max_measurements_per_msg
   kFrameId,            // empty frame_id or not the expected camera frame
   kDuplicateId,        // two landmarks with the same id
-  kStampBackwards,     // header.stamp earlier than the last accepted one
+  kStampBackwards,     // header.stamp not after the last accepted one (StampGuard)
   kCount
 };
 
@@ -43,38 +43,11 @@ struct ValidationResult {
   bool ok() const { return reason == Reject::kOk; }
 };
 
-/// Checks everything except stamp ordering (which needs state; see the nodelet).
+/// Checks everything except stamp ordering, which needs state: the nodelet's
+/// hapi_nodelet_kit::StampGuard (a rejection there is Reject::kStampBackwards).
 /// Cost O(N): it runs in the ROS callback thread, the filter never sees a
 /// message that failed it.
 ValidationResult validateLandmarks(const hapi_msgs::StereoLandmarks& msg, const ValidationConfig& cfg);
-
-/// Stamp ordering of accepted messages. A stamp that is not newer than the last
-/// accepted one is either a reordered/duplicated message (rejected: feeding it
-/// would predict backwards or use a measurement twice) or, when it lies more
-/// than `jump_threshold` seconds in the past, a time jump (bag loop, simulator
-/// restart): the filter must be reset and the new timeline accepted.
-enum class StampCheck { kAccept, kReject, kReset };
-class StampGuard {
- public:
-  explicit StampGuard(double jump_threshold) : jump_(jump_threshold) {}
-  StampCheck check(double stamp) {
-    if (!has_last_ || stamp > last_) return accept(stamp, StampCheck::kAccept);
-    if (last_ - stamp > jump_) return accept(stamp, StampCheck::kReset);
-    return StampCheck::kReject;
-  }
-  void clear() { has_last_ = false; }
-  double last() const { return last_; }
-
- private:
-  StampCheck accept(double stamp, StampCheck c) {
-    last_ = stamp;
-    has_last_ = true;
-    return c;
-  }
-  double jump_;
-  double last_ = 0.0;
-  bool has_last_ = false;
-};
 
 }  // namespace ros_glue
 }  // namespace hapi_eskf
