@@ -98,19 +98,6 @@ TEST(PipelineParams, RelationsBetweenFields) {
   EXPECT_EQ(p.validate(), "pixel_sigma must be > 0 px, got -1; min_disparity must be >= 0 px, got -1");
 }
 
-TEST(NumberRange, TextAndEdges) {
-  EXPECT_EQ(NumberRange::closed(1, 12).text(), "in [1, 12]");
-  EXPECT_EQ(NumberRange::open(0, 1).text(), "in (0, 1)");
-  EXPECT_EQ(NumberRange::atLeast(0).text(), ">= 0");
-  EXPECT_EQ(NumberRange::above(0).text(), "> 0");
-  EXPECT_EQ(NumberRange().text(), "finite");
-  EXPECT_TRUE(NumberRange::open(0, 1).contains(0.5));
-  EXPECT_FALSE(NumberRange::open(0, 1).contains(0.0));
-  EXPECT_FALSE(NumberRange::open(0, 1).contains(1.0));
-  EXPECT_TRUE(NumberRange::openClosed(0, 1).contains(1.0));
-  EXPECT_FALSE(NumberRange().contains(std::nan("")));
-}
-
 // The pipeline asks its extractor and matcher whether they ran on the GPU;
 // the CPU classes say no.
 TEST(GpuProperty, CpuImplementationsReportCpu) {

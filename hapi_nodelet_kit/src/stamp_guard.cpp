@@ -3,16 +3,12 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 
 namespace hapi_nodelet_kit {
 
 std::string TimeJumpResetParam::check(double seconds) {
-  if (std::isfinite(seconds) && seconds >= 0.0) return "";
-  std::ostringstream os;
-  os << "~" << kName << " must be in " << kRange << ", got " << seconds;
-  return os.str();
+  return outOfRange(std::string("~") + kName, kRange, "s", seconds);
 }
 
 const char* toString(StampVerdict v) {

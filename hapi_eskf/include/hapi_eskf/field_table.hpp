@@ -12,6 +12,8 @@
 // check and text conversions written once for all of them.
 #pragma once
 
+#include <hapi_nodelet_kit/number_range.hpp>
+
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -22,38 +24,9 @@
 
 namespace hapi_eskf {
 
-// Allowed values of a numeric field: an interval whose ends are open or
-// closed; an infinite end is no bound. A double must also be finite.
-struct Range {
-  double lo = -std::numeric_limits<double>::infinity();
-  double hi = std::numeric_limits<double>::infinity();
-  bool lo_open = false, hi_open = false;
-
-  static constexpr Range any() { return Range{}; }
-  static constexpr Range closed(double a, double b) { return Range{a, b, false, false}; }
-  static constexpr Range openClosed(double a, double b) { return Range{a, b, true, false}; }
-  static constexpr Range closedOpen(double a, double b) { return Range{a, b, false, true}; }
-  static constexpr Range atLeast(double a) { return Range{a, std::numeric_limits<double>::infinity(), false, false}; }
-  static constexpr Range above(double a) { return Range{a, std::numeric_limits<double>::infinity(), true, false}; }
-
-  bool contains(double v) const {
-    if (!std::isfinite(v)) return false;
-    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
-  }
-  // "in [1, 200000]", "in (0, 1]", ">= 0", "> 0"; "" when unbounded.
-  std::string text() const {
-    std::ostringstream o;
-    o << std::setprecision(15);
-    const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
-    if (has_lo && has_hi)
-      o << "in " << (lo_open ? '(' : '[') << lo << ", " << hi << (hi_open ? ')' : ']');
-    else if (has_lo)
-      o << (lo_open ? "> " : ">= ") << lo;
-    else if (has_hi)
-      o << (hi_open ? "< " : "<= ") << hi;
-    return o.str();
-  }
-};
+// Allowed values of a numeric field (the one range type of every HAPI
+// parameter table, hapi_nodelet_kit/number_range.hpp).
+using Range = hapi_nodelet_kit::NumberRange;
 
 // What the table says about one field besides its type and default.
 struct FieldInfo {
@@ -163,10 +136,7 @@ std::string expectedText() {
 template <typename T>
 std::string rangeError(const FieldInfo& f, const T& v, const char* prefix = "") {
   if constexpr (std::is_arithmetic<T>::value && !std::is_same<T, bool>::value) {
-    if (f.range.contains(static_cast<double>(v))) return "";
-    std::string msg = std::string(prefix) + f.name + " must be " + f.range.text();
-    if (*f.unit) msg += std::string(" ") + f.unit;
-    return msg + ", got " + valueText(v);
+    return hapi_nodelet_kit::outOfRange(std::string(prefix) + f.name, f.range, f.unit, static_cast<double>(v));
   } else {
     (void)f;
     (void)v;
@@ -183,8 +153,7 @@ std::string describeField(const FieldInfo& f, const T& default_value) {
   if constexpr (std::is_enum<T>::value) {
     d += ", " + enumChoices<T>();
   } else if constexpr (std::is_arithmetic<T>::value && !std::is_same<T, bool>::value) {
-    const std::string r = f.range.text();
-    if (!r.empty()) d += ", " + r;
+    if (f.range.bounded()) d += ", " + f.range.text();
   }
   if (*f.unit) d += std::string(", ") + f.unit;
   return d + "): " + f.doc;

@@ -101,7 +101,7 @@ TEST(EskfParams, ReadRules) {
   ros::param::set("/enum/backend", std::string("gpu"));
   EXPECT_EQ(loadParams(ros::NodeHandle("/enum"), &p), "~backend must be 'cpu' or 'cuda', got 'gpu'");
   ros::param::set("/range/time_jump_reset", -1.0);
-  EXPECT_EQ(loadParams(ros::NodeHandle("/range"), &p), "~time_jump_reset must be in [0, inf) s (finite), got -1");
+  EXPECT_EQ(loadParams(ros::NodeHandle("/range"), &p), "~time_jump_reset must be >= 0 s, got -1");
   ros::param::set("/filter_range/ransac_iterations", -5);
   EXPECT_EQ(loadParams(ros::NodeHandle("/filter_range"), &p), "ransac_iterations must be in [0, 100000], got -5");
   ros::param::set("/rule/use_imu", true);

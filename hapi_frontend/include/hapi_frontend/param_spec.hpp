@@ -6,29 +6,16 @@
 // no range is ever written twice. ROS-free.
 #pragma once
 
-#include <limits>
+#include <hapi_nodelet_kit/number_range.hpp>
+
 #include <string>
 #include <vector>
 
 namespace hapi_frontend {
 
-// Allowed values of a number, an interval with open or closed ends. Numbers
-// must also be finite (NaN and inf are never allowed).
-struct NumberRange {
-  double min = -std::numeric_limits<double>::infinity();
-  double max = std::numeric_limits<double>::infinity();
-  bool min_open = false, max_open = false;
-
-  static NumberRange closed(double lo, double hi) { return {lo, hi, false, false}; }
-  static NumberRange atLeast(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
-  static NumberRange above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, false}; }
-  static NumberRange openClosed(double lo, double hi) { return {lo, hi, true, false}; }
-  static NumberRange open(double lo, double hi) { return {lo, hi, true, true}; }
-
-  bool contains(double v) const;
-  // "in [1, 12]", "in (0, 1]", ">= 0", "> 0"
-  std::string text() const;
-};
+// Allowed values of a number (the one range type of every HAPI parameter
+// table, hapi_nodelet_kit/number_range.hpp).
+using NumberRange = hapi_nodelet_kit::NumberRange;
 
 struct ParamSpec {
   const char* name = "";

@@ -22,6 +22,8 @@
 //   parameter through a ParamReader.
 #pragma once
 
+#include "hapi_nodelet_kit/number_range.hpp"
+
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -32,9 +34,9 @@ namespace hapi_nodelet_kit {
 struct TimeJumpResetParam {
   static constexpr const char* kName = "time_jump_reset";
   static constexpr double kDefault = 1.0;  // [s]
-  // Allowed values, as written in messages and docs. 0 is allowed: every step
-  // back then resets and only repeated stamps are rejected.
-  static constexpr const char* kRange = "[0, inf) s (finite)";
+  // Allowed values [s]. 0 is allowed: every step back then resets and only
+  // repeated stamps are rejected.
+  static constexpr NumberRange kRange = NumberRange::atLeast(0.0);
   // Empty when `seconds` is allowed, else a message naming ~time_jump_reset
   // and its range.
   static std::string check(double seconds);
