@@ -147,7 +147,7 @@ void EskfNodelet::landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& 
     if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReject) {
       reject(Reject::kStampBackwards, "stamp " + std::to_string(msg->header.stamp.toSec()) +
                                           " not newer than the last accepted " +
-                                          std::to_string(static_cast<double>(sc.previous_ns) * 1e-9));
+                                          std::to_string(sc.previousSec()));
       return;
     }
     if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReset) {

@@ -45,7 +45,7 @@ std::optional<ImuSample> ImuInput::accept(const sensor_msgs::Imu& msg) {
     // The buffer is kept in stamp order (the propagation relies on it).
     ++stats_.counters.imu_dropped;
     ROS_WARN_THROTTLE_NAMED(2.0, log_name_, "IMU sample at %.6f not newer than the previous one (%.6f): dropped",
-                            stamp, static_cast<double>(sc.previous_ns) * 1e-9);
+                            stamp, sc.previousSec());
     return std::nullopt;
   }
   if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReset)

@@ -51,6 +51,7 @@ struct StampCheck {
   std::int64_t previous_ns = 0;  // last accepted stamp before this check
   std::int64_t back_ns = 0;      // previous_ns - stamp when the stamp went back, else 0
   double backSec() const { return static_cast<double>(back_ns) * 1e-9; }
+  double previousSec() const { return static_cast<double>(previous_ns) * 1e-9; }
 };
 
 // Thread-safe (owns its lock): callbacks on several manager threads may check.
