@@ -142,6 +142,10 @@ sensor_msgs::PointCloud2 toPointCloud2(const std::vector<MapPoint>& points) {
   cloud.height = 1;
   cloud.width = static_cast<uint32_t>(points.size());
   cloud.is_dense = true;
+  // PointCloud2Iterator starts at &data.front(), undefined on an empty buffer
+  // (UBSan: "reference binding to null pointer"): an empty map (after a
+  // reset) is the header and fields alone.
+  if (points.empty()) return cloud;
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"), rgb(cloud, "rgb"),
       sigma(cloud, "sigma");
   sensor_msgs::PointCloud2Iterator<uint32_t> id(cloud, "id");

@@ -150,3 +150,15 @@ TEST(Conversions, PointCloudLayout) {
   EXPECT_EQ(*id, 9u);
   EXPECT_FLOAT_EQ(*sigma, 0.1f);
 }
+
+// An empty map (the snapshot right after a reset) is a valid cloud with the
+// same fields and no points; iterating its empty buffer would be undefined
+// behaviour (found by tools/sanitize.sh asan).
+TEST(Conversions, EmptyMapIsAnEmptyCloudWithTheFields) {
+  const auto cloud = toPointCloud2({});
+  EXPECT_EQ(cloud.height, 1u);
+  EXPECT_EQ(cloud.width, 0u);
+  EXPECT_TRUE(cloud.data.empty());
+  ASSERT_EQ(cloud.fields.size(), 6u);
+  EXPECT_EQ(cloud.point_step, 24u);
+}
