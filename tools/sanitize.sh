@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Builds the whole catkin workspace with a sanitizer, in its own workspace
+# folder, and runs every gtest and rostest under it (docs/RELIABILITY.md,
+# "Sanitizers").
+#
+#   tools/sanitize.sh asan [ctest args]   # AddressSanitizer + UndefinedBehaviorSanitizer (+ LeakSanitizer)
+#   tools/sanitize.sh tsan [ctest args]   # ThreadSanitizer
+#
+# Workspace: $HAPI_WS or <repo>/.ws-<mode>. CUDA is off (no sanitizer sees
+# device code, and no GPU is needed). Any report aborts the process that
+# made it, so a report fails its test; the reports are in ctest's output and
+# in the ROS logs under <ws>/ros_home/log.
+#
+# Processes that are not ours (the nodelet manager, python's rosmaster,
+# roslaunch and the test nodes) load our instrumented libraries, so the
+# sanitizer runtime is preloaded into every process of the run; reports that
+# originate in third-party code only are suppressed by the files in
+# test/reliability/sanitizers/, each entry with its reason.
+set -euo pipefail
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+MODE="${1:-}"
+[ $# -gt 0 ] && shift
+export PATH="/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
+SUPP="$REPO/test/reliability/sanitizers"
+
+case "$MODE" in
+  asan)
+    FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+    RUNTIME="$(gcc -print-file-name=libasan.so)"
+    export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:detect_stack_use_after_return=0"
+    export LSAN_OPTIONS="suppressions=$SUPP/lsan.supp:print_suppressions=0"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$SUPP/ubsan.supp"
+    ;;
+  tsan)
+    FLAGS="-fsanitize=thread"
+    RUNTIME="$(gcc -print-file-name=libtsan.so)"
+    export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$SUPP/tsan.supp"
+    ;;
+  *)
+    echo "usage: tools/sanitize.sh asan|tsan [ctest args]" >&2
+    exit 2
+    ;;
+esac
+[ -f "$RUNTIME" ] || { echo "sanitize.sh: $RUNTIME not found (gcc's sanitizer runtime)" >&2; exit 1; }
+
+WS="${HAPI_WS:-$REPO/.ws-$MODE}"
+# CMake takes CXXFLAGS/LDFLAGS on the first configure of a build folder.
+CXXFLAGS="$FLAGS -g" LDFLAGS="$FLAGS" HAPI_WS="$WS" \
+  HAPI_CMAKE_ARGS="-DHAPI_WITH_CUDA=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo ${HAPI_CMAKE_ARGS:-}" \
+  bash "$REPO/scripts/setup.sh"
+
+cd "$WS"
+set +u
+# shellcheck disable=SC1091
+source devel/setup.bash
+set -u
+catkin_make -j"${HAPI_JOBS:-$(nproc)}" tests
+export ROS_HOME="$WS/ros_home"
+mkdir -p "$ROS_HOME"
+export LD_PRELOAD="$RUNTIME"
+cd "$WS/build"
+ctest --output-on-failure --timeout "${HAPI_TEST_TIMEOUT:-1800}" "$@"
