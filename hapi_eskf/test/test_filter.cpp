@@ -108,7 +108,7 @@ TEST(Eskf, UninitialisedAndBackendlessFiltersSaySo) {
   Eskf mismatch(s, makeCpuBackend(s.max_landmarks + 1, 32));  // capacity != max_landmarks
   EXPECT_EQ(mismatch.reset(PoseState(), 0.0), Status::kInvalidArgument);
   EXPECT_EQ(mismatch.predictTo(1.0), Status::kNotInitialised);
-  EXPECT_EQ(mismatch.predictWithGyro(1.0, Vec3::Zero(), 1e-3), Status::kNotInitialised);
+  EXPECT_EQ(mismatch.addImu(ImuSample{1.0, Vec3::Zero(), Vec3::Zero()}), Status::kNotInitialised);
   StereoFrame fr;
   fr.stamp = 1.0;
   EXPECT_EQ(mismatch.processFrame(fr), Status::kNotInitialised);
@@ -181,7 +181,9 @@ TEST(Eskf, BadFramesReturnTheirStatusAndLeaveTheStateExactlyUnchanged) {
   const FilterSnapshot snap2(sc.f);
   EXPECT_EQ(sc.f.predictTo(sc.f.time() - 1e-3), Status::kInvalidArgument);
   EXPECT_EQ(sc.f.predictTo(nan), Status::kNonFinite);
-  EXPECT_EQ(sc.f.predictWithGyro(sc.f.time() + 0.1, Vec3(nan, 0, 0), 0.01), Status::kNonFinite);
+  EXPECT_EQ(sc.f.addImu(ImuSample{sc.f.time() + 0.1, Vec3(nan, 0, 0), Vec3::Zero()}), Status::kNonFinite);
+  EXPECT_EQ(sc.f.addImu(ImuSample{sc.f.time() + 0.1, Vec3::Zero(), Vec3::Zero()}), Status::kInvalidArgument)
+      << "the constant-velocity model has no IMU input";
   snap2.expectSame(sc.f, "bad predict");
 }
 
@@ -281,6 +283,8 @@ TEST(Eskf, RepeatedObservationsOfAStaticSceneShrinkUncertaintyAndAssociate) {
 TEST(Eskf, PredictEntryPoints) {
   EskfSettings s = smallSettings();
   s.angular_velocity_damping = 0.5;
+  s.motion_model = MotionModelKind::kGyro;  // without a sample it is the constant-velocity step
+  s.gyro_noise_density = 0.01;
   Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
   PoseState x0;
   x0.v = Vec3(0.3, 0, 1);
@@ -304,7 +308,7 @@ TEST(Eskf, PredictEntryPoints) {
 
   // Gyro: w is replaced by the measurement, its variance by sigma^2/dt (then damped).
   const Vec3 gyro(0.0, -0.3, 0.05);
-  ASSERT_EQ(f.predictWithGyro(1.6, gyro, 0.01), Status::kOk);
+  ASSERT_EQ(f.addImu(ImuSample{1.6, gyro, Vec3::Zero()}), Status::kOk);
   const double lam = std::pow(0.5, 0.1);
   EXPECT_LT((f.pose().w - lam * gyro).norm(), 1e-15);
   const Mat12 C = f.poseCovariance();
@@ -348,7 +352,7 @@ TEST(Association, RatioTestGateAndOneMeasurementPerLandmark) {
   addMeas(Vec3(1, 0, 7.0), d[1]);                      // 2: descriptor of 1 but 2 m off -> gated out
   addMeas(Vec3(3, 3, 3), std::vector<uint8_t>(8, 0x55));  // 3: new point (32 bits from everything)
   Association a;
-  ASSERT_EQ(associate(fr, pose, pos, *backend, s, &a), Status::kOk);
+  ASSERT_EQ(associate(fr, pose, Mat6::Identity(), pos, *backend, s, &a), Status::kOk);
   EXPECT_EQ(a.slot[0], 0);
   EXPECT_EQ(a.slot[1], -1);
   EXPECT_EQ(a.slot[2], -1);
@@ -372,10 +376,10 @@ TEST(Association, RatioTestGateAndOneMeasurementPerLandmark) {
   half[0] = 0x0F;  // 4 bits from landmark 0 (0x00...) ; landmark 2 is 0x0E,0x0F.. far
   addMeas(Vec3(0, 0, 5), half);
   s.match_ratio = 0.8;
-  ASSERT_EQ(associate(fr, pose, pos, *backend, s, &a), Status::kOk);
+  ASSERT_EQ(associate(fr, pose, Mat6::Identity(), pos, *backend, s, &a), Status::kOk);
   EXPECT_EQ(a.slot[0], 0);  // 4 vs >= 26 bits: unambiguous
   s.max_hamming = 3;
-  ASSERT_EQ(associate(fr, pose, pos, *backend, s, &a), Status::kOk);
+  ASSERT_EQ(associate(fr, pose, Mat6::Identity(), pos, *backend, s, &a), Status::kOk);
   EXPECT_EQ(a.slot[0], -1);  // beyond max_hamming
   EXPECT_TRUE(a.may_add[0]);
 }

@@ -38,6 +38,7 @@ TEST(CovarianceChecks, SymmetricPositiveDefiniteAtAnyScale) {
 // Counts the implementation calls that get through the interface's checks.
 class RecordingBackend final : public CovarianceBackend {
  public:
+  RecordingBackend() : CovarianceBackend(kCameraMotionDim) {}
   int calls = 0;
   int K = 3;
   const char* name() const override { return "recording"; }
@@ -45,14 +46,14 @@ class RecordingBackend final : public CovarianceBackend {
   int numLandmarks() const override { return K; }
   int descriptorLength() const override { return 8; }
   std::size_t memoryBytes() const override { return 0; }
-  Mat12 poseCovariance() const override { return Mat12::Identity(); }
+  PoseMat poseCovariance() const override { return PoseMat::Identity(kCameraMotionDim, kCameraMotionDim); }
   std::vector<Mat3> landmarkCovariances() const override { return {}; }
   Eigen::MatrixXd denseCovariance() const override { return Eigen::MatrixXd(); }
   std::vector<uint8_t> descriptors() const override { return {}; }
 
  protected:
-  Status doReset(const Mat12&) override { return record(); }
-  Status doPredict(const Mat12&, const Mat12&) override { return record(); }
+  Status doReset(const PoseMat&) override { return record(); }
+  Status doPredict(const PoseMat&, const PoseMat&) override { return record(); }
   Status doMarginals(const std::vector<int>&, std::vector<Mat9>*) const override { return record(); }
   Status doUpdate(const std::vector<MeasurementBlock>&, Eigen::VectorXd*, double*) override { return record(); }
   Status doAddLandmarks(const std::vector<NewLandmarkBlock>&) override { return record(); }
@@ -84,6 +85,11 @@ TEST(BackendInterface, BadInputNeverReachesTheImplementation) {
   EXPECT_EQ(b.reset(Mat12::Constant(nan)), Status::kNonFinite);
   EXPECT_EQ(b.reset(-Mat12::Identity()), Status::kNotPositiveDefinite);
   EXPECT_EQ(b.predict(Mat12::Constant(nan), Mat12::Zero()), Status::kNonFinite);
+  // The pose block's size is the backend's: an 18 x 18 F, Q or C does not fit a 12-row block.
+  const PoseMat I18 = PoseMat::Identity(kInertialDim, kInertialDim);
+  EXPECT_EQ(b.reset(I18), Status::kInvalidArgument);
+  EXPECT_EQ(b.predict(I18, I18), Status::kInvalidArgument);
+  EXPECT_EQ(b.predict(Mat12::Identity(), I18), Status::kInvalidArgument);
   EXPECT_EQ(b.marginals({0, 3}, &M), Status::kInvalidArgument);
   EXPECT_EQ(b.marginals({0}, nullptr), Status::kInvalidArgument);
   EXPECT_EQ(b.update({}, &dx), Status::kEmptyInput);

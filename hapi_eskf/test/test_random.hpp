@@ -26,12 +26,14 @@ struct Rng {
       for (int c = 0; c < 3; ++c) A(r, c) = n();
     return scale * (A * A.transpose() + 0.5 * Mat3::Identity());
   }
-  Mat12 spd12(double scale) {
-    Mat12 A;
-    for (int r = 0; r < 12; ++r)
-      for (int c = 0; c < 12; ++c) A(r, c) = n();
-    return scale * (A * A.transpose() / 12.0 + 0.1 * Mat12::Identity());
+  // A well-conditioned P x P covariance (a pose block of any model).
+  PoseMat spd(int P, double scale) {
+    PoseMat A(P, P);
+    for (int r = 0; r < P; ++r)
+      for (int c = 0; c < P; ++c) A(r, c) = n();
+    return scale * (A * A.transpose() / static_cast<double>(P) + 0.1 * PoseMat::Identity(P, P));
   }
+  Mat12 spd12(double scale) { return spd(kCameraMotionDim, scale); }
   std::vector<uint8_t> bytes(std::size_t len) {
     std::vector<uint8_t> b(len);
     for (auto& x : b) x = static_cast<uint8_t>(i(0, 255));

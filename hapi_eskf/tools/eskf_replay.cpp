@@ -187,7 +187,8 @@ int main(int argc, char** argv) {
       std::vector<uint64_t> ids;
       for (const auto& l : eskf.landmarks()) { pos.push_back(l.position); ids.push_back(l.id); }
       Association as;
-      associate(frames[fi], eskf.pose(), pos, eskf.backend(), s, &as);
+      associate(frames[fi], eskf.pose(), eskf.motionModel().cameraJacobian(eskf.state()), pos, eskf.backend(), s,
+                &as);
       int wrong = 0, tot = 0;
       for (std::size_t i = 0; i < as.slot.size(); ++i) {
         if (as.slot[i] < 0) continue;

@@ -35,6 +35,10 @@ struct Association {
   int fit_inliers = 0;
   Mat3 fit_R = Mat3::Identity();
   Vec3 fit_t = Vec3::Zero();
+  // Of the fit's inliers, those the Mahalanobis gate around the predicted
+  // pose rejected: the map agrees with itself on a pose the prediction does
+  // not allow (scene_motion_monitor.hpp).
+  int n_fit_inliers_gated_out = 0;
 };
 
 // `positions` are the landmark positions in slot order (size numLandmarks()).
@@ -45,7 +49,11 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
                                      const std::vector<Mat3>& W, const std::vector<Mat3>& Cz, int iterations,
                                      double chi2, Mat3* R_out = nullptr, Vec3* t_out = nullptr);
 
-Status associate(const StereoFrame& frame, const PoseState& pose, const std::vector<Vec3>& positions,
-                 const CovarianceBackend& backend, const EskfSettings& settings, Association* out);
+// `pose` is the camera's; camera_jacobian maps the state's [dp, dtheta] to
+// the camera's (MotionModel::cameraJacobian; the identity for the camera
+// models), so the gate uses the same measurement Jacobian as the update.
+Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& camera_jacobian,
+                 const std::vector<Vec3>& positions, const CovarianceBackend& backend, const EskfSettings& settings,
+                 Association* out);
 
 }  // namespace hapi_eskf

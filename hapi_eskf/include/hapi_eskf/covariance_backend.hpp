@@ -1,12 +1,16 @@
 // The part of the filter whose cost grows with the pool: the dense error-state
-// covariance C (n x n, n = 12 + 3K) and the landmark descriptors. Two
+// covariance C (n x n, n = P + 3K, P the motion model's pose block) and the landmark descriptors. Two
 // implementations: Eigen on the CPU (reference, CI) and CUDA (C resident on the
 // GPU, cuBLAS/cuSOLVER + own kernels). The nominal state and all O(1)-per-
 // landmark algebra (Jacobians, innovations, injection) stay in Eskf on the host.
 //
 // Storage contract shared by both backends (and relied on by the tests):
+//  * the pose block has poseDim() rows (fixed at construction: 12 for the
+//    camera-state motion models, 18 for the inertial one, types.hpp); its
+//    first 6 are [dp, dtheta], the columns a measurement or a new landmark
+//    touches;
 //  * landmarks occupy contiguous slots 0..K-1; slot k owns rows/columns
-//    landmarkRow(k) .. +2; capacity is fixed at construction (max_landmarks);
+//    landmarkRow(k, poseDim()) .. +2; capacity is fixed at construction (max_landmarks);
 //    a removal refills its holes from the tail (removal_plan.hpp);
 //  * the LOWER triangle of C is authoritative (SYRK writes one triangle);
 //    denseCovariance() returns the symmetrised matrix;
@@ -68,18 +72,20 @@ class CovarianceBackend {
   virtual ~CovarianceBackend() = default;
   virtual const char* name() const = 0;
 
+  int poseDim() const { return pose_dim_; }  // P, rows of the pose block
   virtual int capacity() const = 0;        // max landmarks
   virtual int numLandmarks() const = 0;    // K
   virtual int descriptorLength() const = 0;  // bytes; fixed at construction
   virtual std::size_t memoryBytes() const = 0;  // C + work buffers + descriptors
 
-  // K := 0 and C := C_pose (12 x 12). kNonFinite, kInvalidArgument (not
-  // symmetric), kNotPositiveDefinite (covariance_checks.hpp).
-  Status reset(const Mat12& C_pose);
+  // K := 0 and C := C_pose (P x P). kInvalidArgument (not P x P),
+  // kNonFinite, kInvalidArgument (not symmetric), kNotPositiveDefinite
+  // (covariance_checks.hpp).
+  Status reset(const PoseMat& C_pose);
 
   // C_pp <- F C_pp F^T + Q, C_pm <- F C_pm (pose rows/columns only, O(K)).
-  // kNonFinite for a non-finite F or Q.
-  Status predict(const Mat12& F, const Mat12& Q);
+  // kInvalidArgument (F or Q not P x P), kNonFinite for a non-finite F or Q.
+  Status predict(const PoseMat& F, const PoseMat& Q);
 
   // Marginal covariance of [dp, dtheta, dm_slot] (9 x 9) for each slot (a
   // slot may repeat): the host builds S_j = H_j M_j H_j^T + R_j from it for
@@ -89,7 +95,7 @@ class CovarianceBackend {
 
   // Joint update with all blocks (docs/DESIGN.md "Update" steps 1-4): P = C H^T by gather,
   // S = H P + R, Cholesky S = L L^T, A = P L^-T, y = L^-1 innovation,
-  // dx = A y (returned, length stateDim(K)), C <- C - A A^T.
+  // dx = A y (returned, length stateDim(K, P)), C <- C - A A^T.
   // Input: kEmptyInput (no blocks), kInvalidArgument (null dx),
   // kCapacityExceeded (more blocks than K), then per block kInvalidArgument
   // (slot outside [0, K)), kDuplicateId (slot used twice), kNonFinite.
@@ -122,29 +128,38 @@ class CovarianceBackend {
   Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const;
 
   // Read-back for tests, the map and diagnostics (not used in the filter loop).
-  virtual Mat12 poseCovariance() const = 0;
+  virtual PoseMat poseCovariance() const = 0;                 // P x P
   virtual std::vector<Mat3> landmarkCovariances() const = 0;  // K marginal 3x3 blocks
   virtual Eigen::MatrixXd denseCovariance() const = 0;        // symmetrised n x n
   virtual std::vector<uint8_t> descriptors() const = 0;      // K * descriptorLength()
 
  protected:
+  // pose_dim in [6, kMaxPoseDim]; the factories check it.
+  explicit CovarianceBackend(int pose_dim) : pose_dim_(pose_dim) {}
+
   // The implementations, called with checked, non-trivial input only: at
   // least one block or slot, every slot in [0, K); for marginals `out` is
   // already sized, for matchDescriptors `out` holds n_query empty matches
   // and n_query, K and descriptorLength() are all > 0.
-  virtual Status doReset(const Mat12& C_pose) = 0;
-  virtual Status doPredict(const Mat12& F, const Mat12& Q) = 0;
+  virtual Status doReset(const PoseMat& C_pose) = 0;
+  virtual Status doPredict(const PoseMat& F, const PoseMat& Q) = 0;
   virtual Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const = 0;
   virtual Status doUpdate(const std::vector<MeasurementBlock>& blocks, Eigen::VectorXd* dx, double* nis) = 0;
   virtual Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) = 0;
   virtual Status doRemoveLandmarks(const std::vector<int>& slots) = 0;
   virtual Status doMatchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const = 0;
+
+ private:
+  int pose_dim_;
 };
 
-// Eigen reference backend. Always available.
-std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_length);
+// Eigen reference backend. Always available. pose_dim is P (types.hpp);
+// nullptr outside [6, kMaxPoseDim].
+std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_length,
+                                                  int pose_dim = kCameraMotionDim);
 
-// The backend named in settings; nullptr (and *error set) when it cannot be
+// The backend named in settings, with the pose block of its motion_model;
+// nullptr (and *error set) when it cannot be
 // created, e.g. CUDA not compiled in or no device.
 std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descriptor_length, std::string* error);
 

@@ -1,15 +1,19 @@
-// The error-state EKF over camera pose + landmark pool (docs/DESIGN.md "Filter").
-// Host side: nominal state, landmark bookkeeping (ids, positions, colours,
-// statistics), Jacobians and association logic. The covariance and the
-// descriptors live in a CovarianceBackend (CPU or GPU).
+// The error-state EKF over the motion model's pose block + landmark pool
+// (docs/DESIGN.md "Filter"). Host side: nominal state, landmark bookkeeping
+// (ids, positions, colours, statistics), Jacobians and association logic.
+// The covariance and the descriptors live in a CovarianceBackend (CPU or
+// GPU); the pose block is the MotionModel's (motion_model.hpp).
 //
 // One processFrame() = predict to the frame stamp -> associate (descriptor
-// best/second-best + ratio test, then Mahalanobis gate) -> joint update with
-// at most max_update_landmarks -> remove (stale landmarks when the pool would
+// best/second-best + ratio test, RANSAC rigid fit, Mahalanobis gate) -> IMU
+// and vision agreement (scene_motion_monitor.hpp) -> joint update with at
+// most max_update_landmarks -> remove (stale landmarks when the pool would
 // overflow) -> add at most max_new_landmarks unmatched measurements.
 #pragma once
 
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/motion_model.hpp"
+#include "hapi_eskf/scene_motion_monitor.hpp"
 #include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
@@ -21,38 +25,62 @@ namespace hapi_eskf {
 
 class Eskf {
  public:
-  // The backend's capacity must equal settings.max_landmarks.
-  Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend);
+  // The backend's capacity must equal settings.max_landmarks and its pose
+  // block the motion model's (poseDim(settings.motion_model)). `extrinsic`
+  // is the camera in the IMU frame (models with IMU; setCameraExtrinsic()
+  // changes it later).
+  Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend,
+       const CameraExtrinsic& extrinsic = CameraExtrinsic());
 
-  // Clears the pool; the pose starts at `initial` with the initial sigmas of
-  // the settings. The next frame must have stamp >= `stamp`. The constructor
+  // Clears the pool; the camera starts at `initial` with the initial sigmas
+  // of the settings. The next frame must have stamp >= `stamp`. The inertial
+  // model then first aligns to gravity (addImu(), inertial_alignment.hpp):
+  // until alignment_window of samples arrived, frames return kAwaitingImu
+  // and `initial` is replaced by the gravity-aligned start. The constructor
   // resets to the identity pose at 0; until a reset succeeds (invalid
-  // settings, backend capacity != max_landmarks) every other operation
+  // settings, backend capacity or pose block mismatch) every other operation
   // returns kNotInitialised (kBackendUnavailable without a backend).
   Status reset(const PoseState& initial, double stamp);
 
-  // Constant-velocity prediction to `stamp` (no-op when stamp == current).
+  // The camera in the IMU frame. The camera pose is kept (the inertial
+  // model's body pose moves with the new extrinsic). kNonFinite,
+  // kInvalidArgument (R not a rotation).
+  Status setCameraExtrinsic(const CameraExtrinsic& extrinsic);
+
+  // Prediction without a new IMU sample to `stamp` (no-op when stamp ==
+  // current; constant velocity, or the inertial model's last sample held).
   // kInvalidArgument when stamp is earlier than the filter time.
   Status predictTo(double stamp);
 
-  // Prediction driven by a gyro sample (camera-frame angular rate [rad/s] with
-  // its noise density sigma [rad/s/sqrt(Hz)]): w is replaced by the
-  // measurement for the step, then the constant-velocity step runs
-  // (gyro_prediction.hpp: kNonFinite, kInvalidArgument, state unchanged).
-  Status predictWithGyro(double stamp, const Vec3& gyro_camera, double sigma_gyro);
+  // One IMU sample (IMU frame, stamp on the camera clock:
+  // imuSampleOnCameraClock). constant_velocity: kInvalidArgument (no IMU in
+  // the model). gyro and inertial: a prediction step to the sample's stamp
+  // with it (motion_model.hpp predictStep); before the inertial model is
+  // aligned the sample goes to the alignment window instead. kNonFinite,
+  // kInvalidArgument (stamp before the filter time); state unchanged on error.
+  Status addImu(const ImuSample& sample);
 
   // One filter iteration. On any input error (kNonFinite, kDuplicateId,
   // kCapacityExceeded, kInvalidArgument, kEmptyInput for a frame without
-  // measurements, kNotPositiveDefinite for a non-PD measurement covariance)
-  // the state is unchanged. The one exception is a joint innovation covariance
-  // S found not PD inside the update: the update is skipped
-  // (report->update_skipped), the prediction and bookkeeping still apply, and
-  // kNotPositiveDefinite is returned (see src/core/eskf.cpp).
+  // measurements, kNotPositiveDefinite for a non-PD measurement covariance,
+  // kAwaitingImu before the inertial alignment) the state is unchanged. The
+  // one exception is a joint innovation covariance S found not PD inside the
+  // update: the update is skipped (report->update_skipped), the prediction
+  // and bookkeeping still apply, and kNotPositiveDefinite is returned (see
+  // src/core/eskf.cpp).
   Status processFrame(const StereoFrame& frame, IterationReport* report = nullptr);
 
-  const PoseState& pose() const { return pose_; }
+  // The left camera: pose in the world, camera-frame velocities.
+  PoseState pose() const { return model_->camera(state_); }
+  // Its covariance in the camera-state layout [dp, dtheta, dv, dw] (12 x 12),
+  // mapped from the state's (MotionModel::cameraStateJacobian).
+  Mat12 cameraCovariance() const;
+  // The pose block of the state covariance (P x P).
+  PoseMat poseCovariance() const;
+  const NominalState& state() const { return state_; }
+  const MotionModel& motionModel() const { return *model_; }
+  bool awaitingAlignment() const { return awaiting_alignment_; }
   double time() const { return time_; }
-  Mat12 poseCovariance() const;
   int numLandmarks() const { return static_cast<int>(ids_.size()); }
   std::vector<LandmarkInfo> landmarks() const;  // with marginal covariances
   const std::vector<Vec3>& landmarkPositions() const { return positions_; }
@@ -66,12 +94,19 @@ class Eskf {
   Status checkFrame(const StereoFrame& frame) const;
   // Re-detection covariance added to C_z (EskfSettings::measurement_angular_sigma).
   Mat3 redetectionCovariance(const Vec3& z) const;
+  Status predictStepTo(double stamp, const ImuSample* imu);
+  Status align();
 
   EskfSettings settings_;
   std::unique_ptr<CovarianceBackend> backend_;
-  PoseState pose_;
+  std::unique_ptr<MotionModel> model_;
+  NominalState state_;
   double time_ = 0.0;
   bool initialised_ = false;
+  // Inertial model: samples collected for the gravity alignment until it is done.
+  bool awaiting_alignment_ = false;
+  std::vector<ImuSample> alignment_samples_;
+  SceneMotionMonitor scene_motion_;
   // Relocalisation (EskfSettings::relocalise_gap): stamp of the last processed
   // frame, and whether an outage was seen and no map fit has moved the pose yet.
   double last_frame_stamp_ = 0.0, outage_stamp_ = 0.0;

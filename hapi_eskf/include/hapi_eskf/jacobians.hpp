@@ -21,12 +21,11 @@ Mat12 processNoise(double dt, const EskfSettings& s);
 // The pose block of the covariance after a step: F C F^T + Q, symmetrised so
 // that it stays exactly symmetric over many steps. The CPU backend's predict
 // and the nodelet's IMU-rate PosePropagator both use it.
-Mat12 predictPoseCovariance(const Mat12& C, const Mat12& F, const Mat12& Q);
+PoseMat predictPoseCovariance(const PoseMat& C, const PoseMat& F, const PoseMat& Q);
 
 // One step with a gyro sample (rad/s, camera frame) replacing w: the state
-// after dt and the step's error-state F and Q (Eskf::predictWithGyro and the
-// nodelet's IMU-rate PosePropagator use the same model, through
-// gyro_prediction.hpp).
+// after dt and the step's error-state F and Q (the gyro motion model,
+// camera_motion_model.cpp).
 // As an error-state map w <- gyro is dw' = n_gyro: F_rep = diag(I, I, I, 0),
 // Q_rep,ww = sigma^2 / dt (white rate noise of density sigma averaged over
 // dt); combined with the constant-velocity step F = F_cv F_rep,

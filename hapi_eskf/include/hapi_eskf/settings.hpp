@@ -17,6 +17,8 @@ enum class Precision { kFp64, kFp32 };  // storage/compute precision of C (CUDA 
 // CUDA backend variants (src/cuda/blas_traits.hpp): kAuto chooses by size.
 enum class CudaRankUpdate { kAuto, kSyrk, kPanelGemm, kRecursive };
 enum class CudaSolve { kAuto, kTrsm, kInverse };
+// The motion model of the pose block (motion_model.hpp).
+enum class MotionModelKind { kConstantVelocity, kGyro, kInertial };
 
 template <>
 struct EnumNames<BackendKind> {
@@ -32,6 +34,12 @@ struct EnumNames<CudaRankUpdate> {
                                                         {CudaRankUpdate::kSyrk, "syrk"},
                                                         {CudaRankUpdate::kPanelGemm, "gemm"},
                                                         {CudaRankUpdate::kRecursive, "recursive"}};
+};
+template <>
+struct EnumNames<MotionModelKind> {
+  static constexpr EnumName<MotionModelKind> kNames[] = {{MotionModelKind::kConstantVelocity, "constant_velocity"},
+                                                         {MotionModelKind::kGyro, "gyro"},
+                                                         {MotionModelKind::kInertial, "inertial"}};
 };
 template <>
 struct EnumNames<CudaSolve> {
@@ -76,6 +84,7 @@ std::string setFieldFromText(EskfSettings* s, const std::string& name, const std
 
 const char* toString(BackendKind b);
 const char* toString(Precision p);
+const char* toString(MotionModelKind m);
 // Parses "cpu"/"cuda" and "fp64"/"fp32"; false on anything else.
 bool parseBackendKind(const std::string& s, BackendKind* out);
 bool parsePrecision(const std::string& s, Precision* out);

@@ -16,6 +16,8 @@ enum class Status : int {
   kNotInitialised,       // no valid state yet: the filter was never reset successfully
                          // (invalid settings, backend capacity mismatch) or a pose copy
                          // was never based on the filter
+  kAwaitingImu,          // inertial model: not yet aligned to gravity (alignment_window of IMU
+                         // samples needed first); frames before that are not processed
   kBackendUnavailable,   // no backend: none given, CUDA requested but no device / not compiled
   kBackendError,         // a CUDA / cuBLAS / cuSOLVER call failed
 };

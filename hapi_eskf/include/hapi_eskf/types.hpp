@@ -18,11 +18,24 @@ using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Mat36 = Eigen::Matrix<double, 3, 6>;
 using Mat9 = Eigen::Matrix<double, 9, 9>;
 
-// Error-state layout (docs/DESIGN.md "State and error state"): [dp, dtheta, dv, dw, dm_0, dm_1, ...].
-constexpr int kPoseDim = 12;
-constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;
-inline int landmarkRow(int slot) { return kPoseDim + 3 * slot; }
-inline int stateDim(int n_landmarks) { return kPoseDim + 3 * n_landmarks; }
+// Error-state layout (docs/DESIGN.md "State and error state"): a pose block
+// of the motion model's size, then 3 rows per landmark. Every model starts
+// its block with [dp, dtheta], the only pose columns a measurement touches.
+//  * constant_velocity and gyro (camera state): [dp, dtheta, dv, dw], 12;
+//  * inertial (IMU body state): [dp, dtheta, dv, dbg, dba, dg], 18.
+constexpr int kCameraMotionDim = 12;
+constexpr int kInertialDim = 18;
+constexpr int kMaxPoseDim = 18;
+constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;    // camera state
+constexpr int kIdxBg = 9, kIdxBa = 12, kIdxG = 15;               // inertial state
+inline int landmarkRow(int slot, int pose_dim) { return pose_dim + 3 * slot; }
+inline int stateDim(int n_landmarks, int pose_dim) { return pose_dim + 3 * n_landmarks; }
+
+// A square block of the pose part (F, Q, the pose covariance): dynamic size
+// up to kMaxPoseDim, stored inline (no heap allocation per prediction).
+using PoseMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxPoseDim, kMaxPoseDim>;
+using PoseVec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxPoseDim, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 // Nominal pose part of the state.
 struct PoseState {
@@ -73,6 +86,8 @@ struct IterationReport {
   bool update_skipped = false;  // S not PD etc.: state left unchanged
   bool relocalised = false;     // pose mean moved to the map fit after an outage (settings relocalise_gap)
   bool relocalising = false;    // after an outage, no map fit yet: prediction only (no update, no additions)
+  bool vision_led = false;      // IMU and vision disagreed recently: pose means moved to the map fit (scene_motion_monitor.hpp)
+  bool scene_moving = false;    // ... and the IMU says the device was still: the scanned surface moves
 
   // Adds the per-frame amounts of `o` (timings, counts, mean_nis), so that a
   // sum over frames divided by their number is the per-frame mean. The pool

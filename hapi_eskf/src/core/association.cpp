@@ -29,7 +29,6 @@ void fitRigid(const std::vector<Vec3>& X, const std::vector<Vec3>& Z, const std:
   *t = mx - *R * mz;
 }
 
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 // Residual e = X - (R Z + t) and its Jacobian w.r.t. [dtheta, dt] for the
@@ -162,8 +161,9 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
   return best;
 }
 
-Status associate(const StereoFrame& frame, const PoseState& pose, const std::vector<Vec3>& positions,
-                 const CovarianceBackend& backend, const EskfSettings& settings, Association* out) {
+Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& camera_jacobian,
+                 const std::vector<Vec3>& positions, const CovarianceBackend& backend, const EskfSettings& settings,
+                 Association* out) {
   const int n = static_cast<int>(frame.measurements.size());
   const int K = backend.numLandmarks();
   if (!out || static_cast<int>(positions.size()) != K) return Status::kInvalidArgument;
@@ -238,7 +238,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const std::vec
     Mat3 Hm;
     measurementJacobian(pose, positions[k], &Hp, &Hm);
     Eigen::Matrix<double, 3, 9> H;
-    H << Hp, Hm;
+    H << Hp * camera_jacobian, Hm;
     Mat3 S = H * M[c] * H.transpose() + z.Cz;
     S = 0.5 * (S + S.transpose());
     const Vec3 nu = z.z - measure(pose, positions[k]);
@@ -250,6 +250,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const std::vec
     const double d2 = llt.matrixL().solve(nu).squaredNorm();
     if (!(d2 <= settings.gate_chi2)) {
       ++a.n_gated_out;
+      if (a.fit_inliers > 0) ++a.n_fit_inliers_gated_out;
       continue;
     }
     // 4. One measurement per landmark: keep the smallest distance.

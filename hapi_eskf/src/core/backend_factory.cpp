@@ -1,6 +1,7 @@
 // Backend selection from the settings; the CUDA entry points are compiled in
 // only when src/cuda was built (HAPI_ESKF_WITH_CUDA).
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/motion_model.hpp"
 
 #ifdef HAPI_ESKF_WITH_CUDA
 #include "hapi_eskf/cuda/cuda_backend.hpp"
@@ -37,11 +38,11 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
       if (error) *error = "the cpu backend supports precision fp64 only";
       return nullptr;
     }
-    return makeCpuBackend(s.max_landmarks, descriptor_length);
+    return makeCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model));
   }
 #ifdef HAPI_ESKF_WITH_CUDA
   std::string err;
-  auto b = cuda::makeCudaBackend(s.max_landmarks, descriptor_length, s, &err);
+  auto b = cuda::makeCudaBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s, &err);
   if (!b && error) *error = err.empty() ? std::string("cuda backend creation failed") : err;
   return b;
 #else

@@ -32,14 +32,17 @@ Status checkDistinctSlots(const std::vector<int>& slots, int K) {
 
 }  // namespace
 
-Status CovarianceBackend::reset(const Mat12& C_pose) {
+Status CovarianceBackend::reset(const PoseMat& C_pose) {
+  if (C_pose.rows() != pose_dim_ || C_pose.cols() != pose_dim_) return Status::kInvalidArgument;
   if (!C_pose.allFinite()) return Status::kNonFinite;
   if (!isNearlySymmetric(C_pose)) return Status::kInvalidArgument;
   if (!isSymmetricPositiveDefinite(C_pose)) return Status::kNotPositiveDefinite;
   return doReset(C_pose);
 }
 
-Status CovarianceBackend::predict(const Mat12& F, const Mat12& Q) {
+Status CovarianceBackend::predict(const PoseMat& F, const PoseMat& Q) {
+  if (F.rows() != pose_dim_ || F.cols() != pose_dim_ || Q.rows() != pose_dim_ || Q.cols() != pose_dim_)
+    return Status::kInvalidArgument;
   if (!F.allFinite() || !Q.allFinite()) return Status::kNonFinite;
   return doPredict(F, Q);
 }

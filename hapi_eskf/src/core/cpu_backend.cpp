@@ -1,5 +1,5 @@
 // Eigen reference backend (docs/DESIGN.md "CPU reference backend", "Update", "New landmark", "Removal").
-// Storage: one capacity-sized column-major buffer (N = 12 + 3*capacity square);
+// Storage: one capacity-sized column-major buffer (N = P + 3*capacity square);
 // the live state is its top-left n x n corner, landmarks in contiguous slots,
 // and only the LOWER triangle of that corner is authoritative (the SYRK-style
 // rank update writes just that triangle). The inputs arrive checked
@@ -26,10 +26,11 @@ int popcount64(uint64_t x) { return __builtin_popcountll(x); }
 
 class CpuBackend final : public CovarianceBackend {
  public:
-  CpuBackend(int capacity, int descriptor_length)
-      : capacity_(capacity),
+  CpuBackend(int capacity, int descriptor_length, int pose_dim)
+      : CovarianceBackend(pose_dim),
+        capacity_(capacity),
         desc_len_(descriptor_length),
-        N_(stateDim(capacity)),
+        N_(stateDim(capacity, pose_dim)),
         C_(MatrixXd::Zero(N_, N_)),
         desc_(static_cast<std::size_t>(capacity) * descriptor_length, 0) {}
 
@@ -41,11 +42,11 @@ class CpuBackend final : public CovarianceBackend {
     return sizeof(double) * static_cast<std::size_t>(N_) * N_ + desc_.size();
   }
 
-  Mat12 poseCovariance() const override { return symPose(); }
+  PoseMat poseCovariance() const override { return symPose(); }
 
   std::vector<Mat3> landmarkCovariances() const override {
     std::vector<Mat3> out(K_);
-    for (int k = 0; k < K_; ++k) out[k] = symBlock3(landmarkRow(k));
+    for (int k = 0; k < K_; ++k) out[k] = symBlock3(row(k));
     return out;
   }
 
@@ -61,18 +62,18 @@ class CpuBackend final : public CovarianceBackend {
   }
 
  protected:
-  Status doReset(const Mat12& C_pose) override {
+  Status doReset(const PoseMat& C_pose) override {
     K_ = 0;
-    C_.topLeftCorner<kPoseDim, kPoseDim>() = C_pose;
+    C_.topLeftCorner(poseDim(), poseDim()) = C_pose;
     return Status::kOk;
   }
 
-  Status doPredict(const Mat12& F, const Mat12& Q) override {
-    const int n = dim();
-    C_.topLeftCorner<kPoseDim, kPoseDim>() = predictPoseCovariance(symPose(), F, Q);
-    if (n > kPoseDim) {
-      // C_mp (stored in the lower triangle, rows 12..n) <- C_mp F^T: O(K).
-      auto Cmp = C_.block(kPoseDim, 0, n - kPoseDim, kPoseDim);
+  Status doPredict(const PoseMat& F, const PoseMat& Q) override {
+    const int n = dim(), P = poseDim();
+    C_.topLeftCorner(P, P) = predictPoseCovariance(symPose(), F, Q);
+    if (n > P) {
+      // C_mp (stored in the lower triangle, rows P..n) <- C_mp F^T: O(K).
+      auto Cmp = C_.block(P, 0, n - P, P);
       const MatrixXd tmp = Cmp * F.transpose();
       Cmp = tmp;
     }
@@ -80,9 +81,9 @@ class CpuBackend final : public CovarianceBackend {
   }
 
   Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
-    const Mat12 Cpp = symPose();
+    const PoseMat Cpp = symPose();
     for (std::size_t i = 0; i < slots.size(); ++i) {
-      const int r = landmarkRow(slots[i]);
+      const int r = row(slots[i]);
       Mat9& M = (*out)[i];
       M.topLeftCorner<6, 6>() = Cpp.topLeftCorner<6, 6>();
       M.block<3, 6>(6, 0) = C_.block<3, 6>(r, 0);
@@ -104,7 +105,7 @@ class CpuBackend final : public CovarianceBackend {
     MatrixXd G3(n, 3);
     for (int j = 0; j < L; ++j) {
       const auto& b = blocks[j];
-      gatherColumnsInto(landmarkRow(b.slot), 3, n, &G3);
+      gatherColumnsInto(row(b.slot), 3, n, &G3);
       P.middleCols<3>(3 * j).noalias() = Cx6 * b.H_pose.transpose();
       P.middleCols<3>(3 * j).noalias() += G3 * b.H_landmark.transpose();
     }
@@ -113,7 +114,7 @@ class CpuBackend final : public CovarianceBackend {
     VectorXd z(m);
     for (int i = 0; i < L; ++i) {
       const auto& b = blocks[i];
-      const int r = landmarkRow(b.slot);
+      const int r = row(b.slot);
       S.middleRows<3>(3 * i).noalias() = b.H_pose * P.topRows<6>();
       S.middleRows<3>(3 * i).noalias() += b.H_landmark * P.middleRows<3>(r);
       z.segment<3>(3 * i) = b.innovation;
@@ -171,16 +172,16 @@ class CpuBackend final : public CovarianceBackend {
   // destination both indices < n_new, so the copies cannot overwrite a source.
   Status doRemoveLandmarks(const std::vector<int>& slots) override {
     const int K_new = K_ - static_cast<int>(slots.size());
-    const int n_new = stateDim(K_new);
+    const int P = poseDim(), n_new = stateDim(K_new, P);
     const std::vector<SlotMove> moves = tailFillMoves(K_, slots);
     const std::vector<int> old_slot = oldSlotOfNew(K_new, moves);
     auto oldIndex = [&](int j) {
-      return j < kPoseDim ? j : landmarkRow(old_slot[(j - kPoseDim) / 3]) + (j - kPoseDim) % 3;
+      return j < P ? j : row(old_slot[(j - P) / 3]) + (j - P) % 3;
     };
     auto at = [&](int i, int j) -> double& { return i >= j ? C_(i, j) : C_(j, i); };  // lower triangle
     for (const SlotMove& mv : moves) {
       for (int r = 0; r < 3; ++r) {
-        const int dst = landmarkRow(mv.to) + r, src = landmarkRow(mv.from) + r;
+        const int dst = row(mv.to) + r, src = row(mv.from) + r;
         for (int j = 0; j < n_new; ++j) at(dst, j) = at(src, oldIndex(j));
       }
       if (desc_len_ > 0)
@@ -221,10 +222,11 @@ class CpuBackend final : public CovarianceBackend {
   }
 
  private:
-  int dim() const { return stateDim(K_); }
+  int dim() const { return stateDim(K_, poseDim()); }
+  int row(int slot) const { return landmarkRow(slot, poseDim()); }
 
-  Mat12 symPose() const {
-    Mat12 P = C_.topLeftCorner<kPoseDim, kPoseDim>().triangularView<Eigen::Lower>();
+  PoseMat symPose() const {
+    PoseMat P = C_.topLeftCorner(poseDim(), poseDim()).triangularView<Eigen::Lower>();
     P.triangularView<Eigen::StrictlyUpper>() = P.transpose().triangularView<Eigen::StrictlyUpper>();
     return P;
   }
@@ -263,9 +265,9 @@ class CpuBackend final : public CovarianceBackend {
 
 }  // namespace
 
-std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_length) {
-  if (capacity < 0 || descriptor_length < 0) return nullptr;
-  return std::make_unique<CpuBackend>(capacity, descriptor_length);
+std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_length, int pose_dim) {
+  if (capacity < 0 || descriptor_length < 0 || pose_dim < 6 || pose_dim > kMaxPoseDim) return nullptr;
+  return std::make_unique<CpuBackend>(capacity, descriptor_length, pose_dim);
 }
 
 }  // namespace hapi_eskf

@@ -26,8 +26,9 @@
 
 #include "hapi_eskf/association.hpp"
 #include "hapi_eskf/covariance_checks.hpp"
-#include "hapi_eskf/gyro_prediction.hpp"
+#include "hapi_eskf/inertial_alignment.hpp"
 #include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/so3.hpp"
 #include "hapi_eskf/removal_plan.hpp"
 
 #include <algorithm>
@@ -44,39 +45,46 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-Mat12 initialCovariance(const EskfSettings& s) {
-  Mat12 C = Mat12::Zero();
-  C.diagonal().segment<3>(kIdxP).setConstant(s.initial_sigma_position * s.initial_sigma_position);
-  C.diagonal().segment<3>(kIdxTheta).setConstant(s.initial_sigma_orientation * s.initial_sigma_orientation);
-  C.diagonal().segment<3>(kIdxV).setConstant(s.initial_sigma_velocity * s.initial_sigma_velocity);
-  C.diagonal().segment<3>(kIdxW).setConstant(s.initial_sigma_angular_velocity * s.initial_sigma_angular_velocity);
-  return C;
+// The rotation of an extrinsic must be one (orthonormal, det +1).
+bool isRotation(const Mat3& R) {
+  return R.allFinite() && (R * R.transpose() - Mat3::Identity()).cwiseAbs().maxCoeff() < 1e-6 &&
+         std::abs(R.determinant() - 1.0) < 1e-6;
 }
 
 }  // namespace
 
-Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend)
-    : settings_(settings), backend_(std::move(backend)) {
+Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend,
+           const CameraExtrinsic& extrinsic)
+    : settings_(settings),
+      backend_(std::move(backend)),
+      model_(makeMotionModel(settings, extrinsic)),
+      scene_motion_(settings) {
   // Construction never throws; a mismatch is reported by reset()/processFrame().
-  if (backend_ && settings_.validate().empty() && backend_->capacity() == settings_.max_landmarks)
+  if (backend_ && settings_.validate().empty() && backend_->capacity() == settings_.max_landmarks &&
+      backend_->poseDim() == model_->poseDim())
     reset(PoseState(), 0.0);
 }
 
 Status Eskf::reset(const PoseState& initial, double stamp) {
   if (!backend_) return Status::kBackendUnavailable;
   if (!settings_.validate().empty()) return Status::kInvalidArgument;
-  if (backend_->capacity() != settings_.max_landmarks) return Status::kInvalidArgument;
+  if (backend_->capacity() != settings_.max_landmarks || backend_->poseDim() != model_->poseDim())
+    return Status::kInvalidArgument;
   if (!std::isfinite(stamp) || !initial.p.allFinite() || !initial.q.coeffs().allFinite() || !initial.v.allFinite() ||
       !initial.w.allFinite())
     return Status::kNonFinite;
   if (initial.q.norm() < 1e-6) return Status::kInvalidArgument;
-  const Status st = backend_->reset(initialCovariance(settings_));
+  const Status st = backend_->reset(model_->initialCovariance());
   if (st != Status::kOk) return st;
-  pose_ = initial;
-  pose_.q.normalize();
+  PoseState camera = initial;
+  camera.q.normalize();
+  state_ = model_->fromCamera(camera);
   time_ = stamp;
   last_frame_stamp_ = stamp;
   relocalise_pending_ = false;
+  awaiting_alignment_ = model_->kind() == MotionModelKind::kInertial;
+  alignment_samples_.clear();
+  scene_motion_.reset();
   initialised_ = true;
   ids_.clear();
   positions_.clear();
@@ -86,27 +94,70 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   return Status::kOk;
 }
 
-Status Eskf::predictTo(double stamp) {
-  if (!initialised_) return Status::kNotInitialised;
-  if (!std::isfinite(stamp)) return Status::kNonFinite;
-  if (stamp < time_) return Status::kInvalidArgument;
-  const double dt = stamp - time_;
-  if (dt == 0.0) return Status::kOk;
-  const Status st = backend_->predict(predictJacobian(pose_, dt, settings_), processNoise(dt, settings_));
-  if (st != Status::kOk) return st;
-  pose_ = predictPose(pose_, dt, settings_);
-  time_ = stamp;
+Status Eskf::setCameraExtrinsic(const CameraExtrinsic& extrinsic) {
+  if (!extrinsic.R_imu_cam.allFinite() || !extrinsic.p_imu_cam.allFinite()) return Status::kNonFinite;
+  if (!isRotation(extrinsic.R_imu_cam)) return Status::kInvalidArgument;
+  const PoseState camera = pose();
+  model_ = makeMotionModel(settings_, extrinsic);
+  model_->moveCameraTo(&state_, camera.p, camera.q);
   return Status::kOk;
 }
 
-// w <- gyro for the step (gyro_prediction.hpp), one backend call.
-Status Eskf::predictWithGyro(double stamp, const Vec3& gyro_camera, double sigma_gyro) {
-  if (!initialised_) return Status::kNotInitialised;
-  return predictWithGyroStep(&pose_, &time_, stamp, gyro_camera, sigma_gyro, settings_,
-                             [this](const Mat12& F, const Mat12& Q) { return backend_->predict(F, Q); });
+// One transactional step of the model; the backend propagates C.
+Status Eskf::predictStepTo(double stamp, const ImuSample* imu) {
+  return predictStep(*model_, &state_, &time_, stamp, imu,
+                     [this](const PoseMat& F, const PoseMat& Q) { return backend_->predict(F, Q); });
 }
 
-Mat12 Eskf::poseCovariance() const { return backend_ ? backend_->poseCovariance() : Mat12::Zero(); }
+Status Eskf::predictTo(double stamp) {
+  if (!initialised_) return Status::kNotInitialised;
+  if (awaiting_alignment_) return Status::kAwaitingImu;
+  return predictStepTo(stamp, nullptr);
+}
+
+Status Eskf::addImu(const ImuSample& sample) {
+  if (!initialised_) return Status::kNotInitialised;
+  if (!std::isfinite(sample.stamp) || !sample.gyro.allFinite() || !sample.accel.allFinite())
+    return Status::kNonFinite;
+  if (!model_->usesImu() || sample.stamp < time_) return Status::kInvalidArgument;
+  if (awaiting_alignment_) {
+    if (!alignment_samples_.empty() && sample.stamp <= alignment_samples_.back().stamp)
+      return Status::kInvalidArgument;
+    alignment_samples_.push_back(sample);
+    if (sample.stamp - alignment_samples_.front().stamp >= settings_.alignment_window) return align();
+    return Status::kOk;
+  }
+  const Status st = predictStepTo(sample.stamp, &sample);
+  if (st == Status::kOk) scene_motion_.addImu(sample);
+  return st;
+}
+
+// The gravity-aligned start replaces the pose given to reset(); the pool is
+// still empty (frames wait for the alignment), so only the pose block changes.
+Status Eskf::align() {
+  InertialStart start;
+  Status st = alignInertialStart(alignment_samples_, *model_, settings_, &start);
+  if (st == Status::kEmptyInput) {
+    alignment_samples_.clear();  // no usable direction: collect a new window
+    return st;
+  }
+  if (st != Status::kOk) return st;
+  st = backend_->reset(start.C);
+  if (st != Status::kOk) return st;
+  state_ = start.x;
+  time_ = alignment_samples_.back().stamp;
+  last_frame_stamp_ = time_;
+  for (const ImuSample& m : alignment_samples_) scene_motion_.addImu(m);
+  alignment_samples_.clear();
+  awaiting_alignment_ = false;
+  return Status::kOk;
+}
+
+PoseMat Eskf::poseCovariance() const {
+  return backend_ ? backend_->poseCovariance() : PoseMat::Zero(model_->poseDim(), model_->poseDim());
+}
+
+Mat12 Eskf::cameraCovariance() const { return hapi_eskf::cameraCovariance(*model_, state_, poseCovariance()); }
 
 std::vector<LandmarkInfo> Eskf::landmarks() const {
   std::vector<LandmarkInfo> out(ids_.size());
@@ -163,6 +214,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   };
   if (!backend_) return finish(Status::kBackendUnavailable);
   if (!initialised_) return finish(Status::kNotInitialised);
+  if (awaiting_alignment_) return finish(Status::kAwaitingImu);
   // Everything that can be wrong with the input is found here, before any change.
   Status st = checkFrame(frame_in);
   if (st != Status::kOk) return finish(st);
@@ -180,19 +232,22 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // --- predict ---
   // After an outage longer than relocalise_gap the last velocity says nothing
   // about the motion since: predict from rest (settings.hpp).
-  const PoseState pose_before = pose_;
+  const NominalState state_before = state_;
   const bool outage = settings_.relocalise_gap > 0.0 && frame.stamp - last_frame_stamp_ > settings_.relocalise_gap;
+  const bool pending_before = relocalise_pending_;
+  const double outage_before = outage_stamp_;
   if (outage) {
-    pose_.v.setZero();
-    pose_.w.setZero();
+    model_->stop(&state_);
     relocalise_pending_ = settings_.ransac_iterations > 0;
     outage_stamp_ = frame.stamp;
   }
   auto t0 = Clock::now();
-  st = predictTo(frame.stamp);
+  st = predictStepTo(frame.stamp, nullptr);
   rep.t_predict_ms = msSince(t0);
   if (st != Status::kOk) {
-    pose_ = pose_before;  // a rejected frame changes nothing
+    state_ = state_before;  // a rejected frame changes nothing
+    relocalise_pending_ = pending_before;
+    outage_stamp_ = outage_before;
     return finish(st);
   }
   last_frame_stamp_ = frame.stamp;
@@ -200,15 +255,26 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // --- association ---
   t0 = Clock::now();
   Association assoc;
-  st = associate(frame, pose_, positions_, *backend_, settings_, &assoc);
-  if (st == Status::kOk && relocalise_pending_ && assoc.fit_inliers >= kRelocaliseMinInliers) {
-    // Relocalise: the map fit becomes the linearisation point (means only),
-    // then gate again around it.
-    pose_.p = assoc.fit_t;
-    pose_.q = Eigen::Quaterniond(assoc.fit_R).normalized();
+  st = associate(frame, pose(), model_->cameraJacobian(state_), positions_, *backend_, settings_, &assoc);
+  const bool have_fit = st == Status::kOk && assoc.fit_inliers >= kRelocaliseMinInliers;
+  // IMU and vision agreement (models with IMU; scene_motion_monitor.hpp).
+  bool vision_leads = false;
+  if (have_fit && model_->usesImu() && !relocalise_pending_) {
+    const SceneMotionVerdict v = scene_motion_.onFrame(frame.stamp, assoc.fit_inliers, assoc.n_fit_inliers_gated_out);
+    vision_leads = v.vision_leads;
+    rep.vision_led = v.vision_leads;
+    rep.scene_moving = v.vision_leads && v.device_still;
+  }
+  if (have_fit && (relocalise_pending_ || vision_leads)) {
+    // The map fit becomes the linearisation point (means only), then gate
+    // again around it. The velocity stays: after an outage it was already
+    // set to rest; when vision leads, the IMU's velocity is still the
+    // device's best estimate (zeroing it would make the next prediction
+    // disagree again while the device moves).
+    model_->moveCameraTo(&state_, assoc.fit_t, Eigen::Quaterniond(assoc.fit_R).normalized());
+    rep.relocalised = relocalise_pending_;
     relocalise_pending_ = false;
-    rep.relocalised = true;
-    st = associate(frame, pose_, positions_, *backend_, settings_, &assoc);
+    st = associate(frame, pose(), model_->cameraJacobian(state_), positions_, *backend_, settings_, &assoc);
   }
   rep.t_association_ms = msSince(t0);
   if (st != Status::kOk) return finish(st);
@@ -238,21 +304,26 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
       used_meas.push_back(i);
   std::vector<char> used_slot(numLandmarks(), 0);
   if (!used_meas.empty()) {
+    const PoseState camera = pose();
+    const Mat6 J = model_->cameraJacobian(state_);
     std::vector<MeasurementBlock> blocks(used_meas.size());
     for (std::size_t j = 0; j < used_meas.size(); ++j) {
       const int i = used_meas[j], k = assoc.slot[i];
       MeasurementBlock& b = blocks[j];
       b.slot = k;
-      measurementJacobian(pose_, positions_[k], &b.H_pose, &b.H_landmark);
+      Mat36 H_camera;
+      measurementJacobian(camera, positions_[k], &H_camera, &b.H_landmark);
+      b.H_pose = H_camera * J;
       b.R = frame.measurements[i].Cz;
-      b.innovation = frame.measurements[i].z - measure(pose_, positions_[k]);
+      b.innovation = frame.measurements[i].z - measure(camera, positions_[k]);
     }
     Eigen::VectorXd dx;
     double nis = 0.0;
     st = backend_->update(blocks, &dx, &nis);
     if (st == Status::kOk) {
-      injectPose(&pose_, dx.head<kPoseDim>());
-      for (int k = 0; k < numLandmarks(); ++k) positions_[k] += dx.segment<3>(landmarkRow(k));
+      const int P = model_->poseDim();
+      model_->inject(&state_, dx.head(P));
+      for (int k = 0; k < numLandmarks(); ++k) positions_[k] += dx.segment<3>(landmarkRow(k, P));
       for (std::size_t j = 0; j < used_meas.size(); ++j) {
         const int k = assoc.slot[used_meas[j]];
         used_slot[k] = 1;
@@ -322,12 +393,16 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
 
   // --- addition ---
   t0 = Clock::now();
+  const PoseState camera = pose();
   if (n_add > 0) {
+    const Mat6 J = model_->cameraJacobian(state_);
     std::vector<NewLandmarkBlock> blocks(n_add);
     for (int j = 0; j < n_add; ++j) {
       const int i = add_meas[j];
       const StereoMeasurement& m = frame.measurements[i];
-      newLandmarkJacobian(pose_, m.z, &blocks[j].G_pose, &blocks[j].G_z);
+      Mat36 G_camera;
+      newLandmarkJacobian(camera, m.z, &G_camera, &blocks[j].G_z);
+      blocks[j].G_pose = G_camera * J;
       blocks[j].Cz = m.Cz;
       blocks[j].descriptor =
           frame.descriptor_length > 0 ? &frame.descriptors[static_cast<std::size_t>(i) * frame.descriptor_length]
@@ -341,7 +416,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     for (int j = 0; j < n_add; ++j) {
       const StereoMeasurement& m = frame.measurements[add_meas[j]];
       ids_.push_back(next_id_++);
-      positions_.push_back(initLandmark(pose_, m.z));
+      positions_.push_back(initLandmark(camera, m.z));
       colours_.push_back(m.rgb);
       times_observed_.push_back(1);
       last_seen_.push_back(frame.stamp);

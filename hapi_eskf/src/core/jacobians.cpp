@@ -62,8 +62,8 @@ void gyroStep(const PoseState& x, const Vec3& gyro_camera, double sigma_gyro, do
   *next = predictPose(xg, dt, s);
 }
 
-Mat12 predictPoseCovariance(const Mat12& C, const Mat12& F, const Mat12& Q) {
-  const Mat12 Cn = F * C * F.transpose() + Q;
+PoseMat predictPoseCovariance(const PoseMat& C, const PoseMat& F, const PoseMat& Q) {
+  const PoseMat Cn = F * C * F.transpose() + Q;
   return 0.5 * (Cn + Cn.transpose());
 }
 

@@ -32,6 +32,7 @@ std::string setFieldFromText(EskfSettings* s, const std::string& name, const std
 
 const char* toString(BackendKind b) { return enumToString(b); }
 const char* toString(Precision p) { return enumToString(p); }
+const char* toString(MotionModelKind m) { return enumToString(m); }
 bool parseBackendKind(const std::string& s, BackendKind* out) { return enumFromString(s, out); }
 bool parsePrecision(const std::string& s, Precision* out) { return enumFromString(s, out); }
 

@@ -13,6 +13,7 @@ const char* toString(Status s) {
     case Status::kNotPositiveDefinite: return "covariance not positive definite";
     case Status::kInvalidArgument: return "invalid argument";
     case Status::kNotInitialised: return "not initialised";
+    case Status::kAwaitingImu: return "awaiting IMU samples for the gravity alignment";
     case Status::kBackendUnavailable: return "backend unavailable";
     case Status::kBackendError: return "backend error";
   }

@@ -14,7 +14,8 @@ __device__ __forceinline__ T sym(const T* C, std::size_t ld, int i, int j) {
   return i >= j ? C[i + static_cast<std::size_t>(j) * ld] : C[j + static_cast<std::size_t>(i) * ld];
 }
 
-__device__ __forceinline__ int landmarkRowDev(int slot) { return 12 + 3 * slot; }
+// Row of a landmark slot after the pose block of P rows (types.hpp landmarkRow).
+__device__ __forceinline__ int landmarkRowDev(int slot, int P) { return P + 3 * slot; }
 
 // One thread per (state row i, measurement j): reads the 9 columns of C that
 // H_j touches and writes 3 entries of P. Threads of a warp share j, so the H
@@ -25,12 +26,13 @@ __device__ __forceinline__ int landmarkRowDev(int slot) { return 12 + 3 * slot; 
 // 768 KB page per thread at K = 32000); gatherUpperKernel adds it with
 // column-local reads, so here it is left out.
 template <typename T>
-__global__ void gatherPHtKernel(const T* __restrict__ C, std::size_t ld, int n, const int* __restrict__ slots,
-                                const T* __restrict__ H, T* __restrict__ P, std::size_t ldP) {
+__global__ void gatherPHtKernel(const T* __restrict__ C, std::size_t ld, int n, int pose_dim,
+                                const int* __restrict__ slots, const T* __restrict__ H, T* __restrict__ P,
+                                std::size_t ldP) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   const int j = blockIdx.y;
   if (i >= n) return;
-  const int l = landmarkRowDev(slots[j]);
+  const int l = landmarkRowDev(slots[j], pose_dim);
   T v[9];
 #pragma unroll
   for (int c = 0; c < 6; ++c) v[c] = sym(C, ld, i, c);
@@ -55,14 +57,15 @@ __global__ void gatherPHtKernel(const T* __restrict__ C, std::size_t ld, int n, 
 // i (coalesced columns of P).
 constexpr int kTile = 32, kTileRows = 8;
 template <typename T>
-__global__ void gatherUpperKernel(const T* __restrict__ C, std::size_t ld, int n, const int* __restrict__ slots,
-                                  const T* __restrict__ H, int m, T* __restrict__ P, std::size_t ldP) {
+__global__ void gatherUpperKernel(const T* __restrict__ C, std::size_t ld, int n, int pose_dim,
+                                  const int* __restrict__ slots, const T* __restrict__ H, int m, T* __restrict__ P,
+                                  std::size_t ldP) {
   __shared__ T tile[3][kTile][kTile + 1];
   const int i0 = blockIdx.x * kTile, j0 = blockIdx.y * kTile;
   const int tx = threadIdx.x, ty = threadIdx.y;
   {
     const int j = j0 + tx;
-    const int l = j < m ? landmarkRowDev(slots[j]) : 0;
+    const int l = j < m ? landmarkRowDev(slots[j], pose_dim) : 0;
     const T* h = H + 27 * (j < m ? j : 0) + 18;
     for (int ii = ty; ii < kTile; ii += kTileRows) {
       const int i = i0 + ii;
@@ -81,7 +84,7 @@ __global__ void gatherUpperKernel(const T* __restrict__ C, std::size_t ld, int n
   const int i = i0 + tx;
   for (int jj = ty; jj < kTile; jj += kTileRows) {
     const int j = j0 + jj;
-    if (j >= m || i >= n || i >= landmarkRowDev(slots[j])) continue;
+    if (j >= m || i >= n || i >= landmarkRowDev(slots[j], pose_dim)) continue;
 #pragma unroll
     for (int r = 0; r < 3; ++r) P[i + static_cast<std::size_t>(3 * j + r) * ldP] += tile[r][jj][tx];
   }
@@ -89,14 +92,15 @@ __global__ void gatherUpperKernel(const T* __restrict__ C, std::size_t ld, int n
 
 // S(a, b) = H_a-row . P(:, b) using only the 9 non-zero columns of the row.
 template <typename T>
-__global__ void innovationCovKernel(const T* __restrict__ P, std::size_t ldP, const int* __restrict__ slots,
-                                    const T* __restrict__ H, const T* __restrict__ R, int m, T* __restrict__ S) {
+__global__ void innovationCovKernel(const T* __restrict__ P, std::size_t ldP, int pose_dim,
+                                    const int* __restrict__ slots, const T* __restrict__ H, const T* __restrict__ R,
+                                    int m, T* __restrict__ S) {
   const int dim = 3 * m;
   const int a = blockIdx.y;  // row of S
   const int b = blockIdx.x * blockDim.x + threadIdx.x;
   if (b >= dim) return;
   const int j = a / 3, r = a % 3;
-  const int l = landmarkRowDev(slots[j]);
+  const int l = landmarkRowDev(slots[j], pose_dim);
   const T* h = H + 27 * j;
   const T* p = P + static_cast<std::size_t>(b) * ldP;
   T acc = 0;
@@ -114,58 +118,61 @@ __global__ void nonFiniteKernel(const T* __restrict__ x, std::size_t count, int*
   if (i < count && !isfinite(x[i])) *flag = 1;
 }
 
-// C_mp <- C_mp F^T: row i (>= 12) of the cross block is 12 values in the
-// lower triangle, C[i + c ld]; coalesced across the warp.
-template <typename T>
-__global__ void predictCrossKernel(T* __restrict__ C, std::size_t ld, int n, Mat12Param F) {
-  const int i = 12 + blockIdx.x * blockDim.x + threadIdx.x;
+// C_mp <- C_mp F^T: row i (>= P) of the cross block is P values in the
+// lower triangle, C[i + c ld]; coalesced across the warp. F is P x P
+// row-major in device memory (read through the cache by every thread).
+template <typename T, int P>
+__global__ void predictCrossKernel(T* __restrict__ C, std::size_t ld, int n, const double* __restrict__ F) {
+  const int i = P + blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
-  double row[12];
+  double row[P];
 #pragma unroll
-  for (int c = 0; c < 12; ++c) row[c] = C[i + static_cast<std::size_t>(c) * ld];
+  for (int c = 0; c < P; ++c) row[c] = C[i + static_cast<std::size_t>(c) * ld];
 #pragma unroll
-  for (int c = 0; c < 12; ++c) {
+  for (int c = 0; c < P; ++c) {
     double acc = 0;
 #pragma unroll
-    for (int d = 0; d < 12; ++d) acc += F.a[12 * c + d] * row[d];
+    for (int d = 0; d < P; ++d) acc += F[P * c + d] * row[d];
     C[i + static_cast<std::size_t>(c) * ld] = static_cast<T>(acc);
   }
 }
 
-// C_pp <- F C_pp F^T + Q in one block of 144 threads (shared 12x12 tiles).
-template <typename T>
-__global__ void predictPoseKernel(T* __restrict__ C, std::size_t ld, Mat12Param F, Mat12Param Q) {
-  __shared__ double cpp[144], fc[144];
+// C_pp <- F C_pp F^T + Q in one block of P^2 threads (shared P x P tiles).
+template <typename T, int P>
+__global__ void predictPoseKernel(T* __restrict__ C, std::size_t ld, const double* __restrict__ F,
+                                  const double* __restrict__ Q) {
+  __shared__ double cpp[P * P], fc[P * P];
   const int t = threadIdx.x;
-  const int r = t / 12, c = t % 12;
+  const int r = t / P, c = t % P;
   cpp[t] = sym(C, ld, r, c);
   __syncthreads();
   double acc = 0;
-  for (int k = 0; k < 12; ++k) acc += F.a[12 * r + k] * cpp[12 * k + c];
+  for (int k = 0; k < P; ++k) acc += F[P * r + k] * cpp[P * k + c];
   fc[t] = acc;  // (F C)(r, c)
   __syncthreads();
-  acc = Q.a[t];
-  for (int k = 0; k < 12; ++k) acc += fc[12 * r + k] * F.a[12 * c + k];
+  acc = Q[t];
+  for (int k = 0; k < P; ++k) acc += fc[P * r + k] * F[P * c + k];
   if (r >= c) C[r + static_cast<std::size_t>(c) * ld] = static_cast<T>(acc);
 }
 
 template <typename T>
-__global__ void marginalsKernel(const T* __restrict__ C, std::size_t ld, const int* __restrict__ slots,
+__global__ void marginalsKernel(const T* __restrict__ C, std::size_t ld, int pose_dim, const int* __restrict__ slots,
                                 double* __restrict__ out) {
   const int s = blockIdx.x;
   const int t = threadIdx.x;  // 81 threads
   const int a = t % 9, b = t / 9;
-  const int l = landmarkRowDev(slots[s]);
+  const int l = landmarkRowDev(slots[s], pose_dim);
   const int ia = a < 6 ? a : l + a - 6;
   const int ib = b < 6 ? b : l + b - 6;
   out[81 * s + a + 9 * b] = static_cast<double>(sym(C, ld, ia, ib));
 }
 
 template <typename T>
-__global__ void landmarkBlocksKernel(const T* __restrict__ C, std::size_t ld, int K, double* __restrict__ out) {
+__global__ void landmarkBlocksKernel(const T* __restrict__ C, std::size_t ld, int pose_dim, int K,
+                                     double* __restrict__ out) {
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= K) return;
-  const int l = landmarkRowDev(k);
+  const int l = landmarkRowDev(k, pose_dim);
 #pragma unroll
   for (int b = 0; b < 3; ++b)
 #pragma unroll
@@ -230,40 +237,54 @@ __global__ void zeroStrictUpperKernel(T* __restrict__ M, int n) {
 // they are read across columns) are strided. At most 60 rows x n elements per
 // iteration: the whole removal is 0.14 ms at K = 8000 (docs/BENCHMARKS.md).
 template <typename T>
-__global__ void fillHolesKernel(T* __restrict__ C, std::size_t ld, int n_new, const int* __restrict__ old_slot,
-                                const int* __restrict__ holes) {
+__global__ void fillHolesKernel(T* __restrict__ C, std::size_t ld, int n_new, int pose_dim,
+                                const int* __restrict__ old_slot, const int* __restrict__ holes) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= n_new) return;
+  const int P = pose_dim;
   const int t = blockIdx.y / 3, r = blockIdx.y % 3;
   const int hole = holes[t];
-  const int D = 12 + 3 * hole + r;
-  const int S = 12 + 3 * old_slot[hole] + r;
-  const int m = j < 12 ? j : 12 + 3 * old_slot[(j - 12) / 3] + (j - 12) % 3;
+  const int D = landmarkRowDev(hole, P) + r;
+  const int S = landmarkRowDev(old_slot[hole], P) + r;
+  const int m = j < P ? j : landmarkRowDev(old_slot[(j - P) / 3], P) + (j - P) % 3;
   const T v = C[static_cast<std::size_t>(max(S, m)) + static_cast<std::size_t>(min(S, m)) * ld];
   C[static_cast<std::size_t>(max(D, j)) + static_cast<std::size_t>(min(D, j)) * ld] = v;
 }
 
 inline unsigned blocksFor(long long count) { return static_cast<unsigned>((count + kThreads - 1) / kThreads); }
 
+template <typename T, int P>
+cudaError_t launchPredictP(T* C, std::size_t ld, int n, const double* F, const double* Q, cudaStream_t stream) {
+  // Cross rows first (they read only rows >= P), then the pose block.
+  if (n > P) {
+    predictCrossKernel<T, P><<<blocksFor(n - P), kThreads, 0, stream>>>(C, ld, n, F);
+    const cudaError_t e = cudaGetLastError();
+    if (e != cudaSuccess) return e;
+  }
+  predictPoseKernel<T, P><<<1, P * P, 0, stream>>>(C, ld, F, Q);
+  return cudaGetLastError();
+}
+
 }  // namespace
 
 template <typename T>
-cudaError_t launchGatherPHt(const T* C, std::size_t ld, int n, const int* slots, const T* H, int m, T* P,
-                            std::size_t ldP, cudaStream_t stream) {
+cudaError_t launchGatherPHt(const T* C, std::size_t ld, int n, int pose_dim, const int* slots, const T* H, int m,
+                            T* P, std::size_t ldP, cudaStream_t stream) {
   if (n <= 0 || m <= 0) return cudaSuccess;
-  gatherPHtKernel<T><<<dim3(blocksFor(n), m), kThreads, 0, stream>>>(C, ld, n, slots, H, P, ldP);
+  gatherPHtKernel<T><<<dim3(blocksFor(n), m), kThreads, 0, stream>>>(C, ld, n, pose_dim, slots, H, P, ldP);
   const cudaError_t e = cudaGetLastError();
   if (e != cudaSuccess) return e;
   gatherUpperKernel<T><<<dim3((n + kTile - 1) / kTile, (m + kTile - 1) / kTile), dim3(kTile, kTileRows), 0, stream>>>(
-      C, ld, n, slots, H, m, P, ldP);
+      C, ld, n, pose_dim, slots, H, m, P, ldP);
   return cudaGetLastError();
 }
 
 template <typename T>
-cudaError_t launchInnovationCov(const T* P, std::size_t ldP, const int* slots, const T* H, const T* R, int m,
-                                T* S, cudaStream_t stream) {
+cudaError_t launchInnovationCov(const T* P, std::size_t ldP, int pose_dim, const int* slots, const T* H, const T* R,
+                                int m, T* S, cudaStream_t stream) {
   if (m <= 0) return cudaSuccess;
-  innovationCovKernel<T><<<dim3(blocksFor(3 * m), 3 * m), kThreads, 0, stream>>>(P, ldP, slots, H, R, m, S);
+  innovationCovKernel<T><<<dim3(blocksFor(3 * m), 3 * m), kThreads, 0, stream>>>(P, ldP, pose_dim, slots, H, R, m,
+                                                                                   S);
   return cudaGetLastError();
 }
 
@@ -275,30 +296,26 @@ cudaError_t launchCountNonFinite(const T* x, std::size_t count, int* flag, cudaS
 }
 
 template <typename T>
-cudaError_t launchPredict(T* C, std::size_t ld, int n, const Mat12Param& F, const Mat12Param& Q,
+cudaError_t launchPredict(T* C, std::size_t ld, int n, int pose_dim, const double* F, const double* Q,
                           cudaStream_t stream) {
-  // Cross rows first (they read only rows >= 12), then the pose block.
-  if (n > 12) {
-    predictCrossKernel<T><<<blocksFor(n - 12), kThreads, 0, stream>>>(C, ld, n, F);
-    const cudaError_t e = cudaGetLastError();
-    if (e != cudaSuccess) return e;
-  }
-  predictPoseKernel<T><<<1, 144, 0, stream>>>(C, ld, F, Q);
-  return cudaGetLastError();
+  // The pose block sizes of the motion models (types.hpp), unrolled each.
+  if (pose_dim == 12) return launchPredictP<T, 12>(C, ld, n, F, Q, stream);
+  if (pose_dim == 18) return launchPredictP<T, 18>(C, ld, n, F, Q, stream);
+  return cudaErrorInvalidValue;
 }
 
 template <typename T>
-cudaError_t launchMarginals(const T* C, std::size_t ld, const int* slots, int count, double* out,
+cudaError_t launchMarginals(const T* C, std::size_t ld, int pose_dim, const int* slots, int count, double* out,
                             cudaStream_t stream) {
   if (count <= 0) return cudaSuccess;
-  marginalsKernel<T><<<count, 81, 0, stream>>>(C, ld, slots, out);
+  marginalsKernel<T><<<count, 81, 0, stream>>>(C, ld, pose_dim, slots, out);
   return cudaGetLastError();
 }
 
 template <typename T>
-cudaError_t launchLandmarkBlocks(const T* C, std::size_t ld, int K, double* out, cudaStream_t stream) {
+cudaError_t launchLandmarkBlocks(const T* C, std::size_t ld, int pose_dim, int K, double* out, cudaStream_t stream) {
   if (K <= 0) return cudaSuccess;
-  landmarkBlocksKernel<T><<<blocksFor(K), kThreads, 0, stream>>>(C, ld, K, out);
+  landmarkBlocksKernel<T><<<blocksFor(K), kThreads, 0, stream>>>(C, ld, pose_dim, K, out);
   return cudaGetLastError();
 }
 
@@ -322,13 +339,13 @@ cudaError_t launchZeroStrictUpper(T* M, int n, cudaStream_t stream) {
 }
 
 template <typename T>
-cudaError_t launchFillHoles(T* C, std::size_t ld, int n_new, const int* old_slot_of_new, const int* holes, int h,
-                            cudaStream_t stream) {
+cudaError_t launchFillHoles(T* C, std::size_t ld, int n_new, int pose_dim, const int* old_slot_of_new,
+                            const int* holes, int h, cudaStream_t stream) {
   constexpr int kMaxHoles = 65535 / 3;  // gridDim.y limit
   for (int t0 = 0; t0 < h && n_new > 0; t0 += kMaxHoles) {
     const int count = h - t0 < kMaxHoles ? h - t0 : kMaxHoles;
     const dim3 grid(blocksFor(n_new), static_cast<unsigned>(3 * count));
-    fillHolesKernel<T><<<grid, kThreads, 0, stream>>>(C, ld, n_new, old_slot_of_new, holes + t0);
+    fillHolesKernel<T><<<grid, kThreads, 0, stream>>>(C, ld, n_new, pose_dim, old_slot_of_new, holes + t0);
     const cudaError_t e = cudaGetLastError();
     if (e != cudaSuccess) return e;
   }
@@ -336,17 +353,17 @@ cudaError_t launchFillHoles(T* C, std::size_t ld, int n_new, const int* old_slot
 }
 
 #define HAPI_INSTANTIATE(T)                                                                                          \
-  template cudaError_t launchGatherPHt<T>(const T*, std::size_t, int, const int*, const T*, int, T*, std::size_t,     \
-                                          cudaStream_t);                                                             \
-  template cudaError_t launchInnovationCov<T>(const T*, std::size_t, const int*, const T*, const T*, int, T*,         \
+  template cudaError_t launchGatherPHt<T>(const T*, std::size_t, int, int, const int*, const T*, int, T*,              \
+                                          std::size_t, cudaStream_t);                                                \
+  template cudaError_t launchInnovationCov<T>(const T*, std::size_t, int, const int*, const T*, const T*, int, T*,    \
                                               cudaStream_t);                                                         \
   template cudaError_t launchCountNonFinite<T>(const T*, std::size_t, int*, cudaStream_t);                         \
-  template cudaError_t launchPredict<T>(T*, std::size_t, int, const Mat12Param&, const Mat12Param&, cudaStream_t);    \
-  template cudaError_t launchMarginals<T>(const T*, std::size_t, const int*, int, double*, cudaStream_t);             \
-  template cudaError_t launchLandmarkBlocks<T>(const T*, std::size_t, int, double*, cudaStream_t);                    \
+  template cudaError_t launchPredict<T>(T*, std::size_t, int, int, const double*, const double*, cudaStream_t);      \
+  template cudaError_t launchMarginals<T>(const T*, std::size_t, int, const int*, int, double*, cudaStream_t);        \
+  template cudaError_t launchLandmarkBlocks<T>(const T*, std::size_t, int, int, double*, cudaStream_t);               \
   template cudaError_t launchAddLandmarks<T>(T*, std::size_t, int, const T*, const T*, int, cudaStream_t);            \
   template cudaError_t launchZeroStrictUpper<T>(T*, int, cudaStream_t);                                            \
-  template cudaError_t launchFillHoles<T>(T*, std::size_t, int, const int*, const int*, int, cudaStream_t);
+  template cudaError_t launchFillHoles<T>(T*, std::size_t, int, int, const int*, const int*, int, cudaStream_t);
 HAPI_INSTANTIATE(double)
 HAPI_INSTANTIATE(float)
 #undef HAPI_INSTANTIATE

@@ -27,11 +27,16 @@ namespace hapi_eskf {
 namespace cuda {
 namespace {
 
-Mat12Param toParam(const Mat12& M) {
-  Mat12Param p;
-  for (int r = 0; r < 12; ++r)
-    for (int c = 0; c < 12; ++c) p.a[12 * r + c] = M(r, c);
-  return p;
+// F then Q, each P x P row-major (the layout launchPredict reads).
+std::vector<double> rowMajorPair(const PoseMat& F, const PoseMat& Q) {
+  const int P = static_cast<int>(F.rows());
+  std::vector<double> h(2 * static_cast<std::size_t>(P) * P);
+  for (int r = 0; r < P; ++r)
+    for (int c = 0; c < P; ++c) {
+      h[P * r + c] = F(r, c);
+      h[P * P + P * r + c] = Q(r, c);
+    }
+  return h;
 }
 
 // The settings' cuda_rank_update fixes the schedule of C <- C - A A^T
@@ -41,11 +46,12 @@ Mat12Param toParam(const Mat12& M) {
 template <typename T>
 class CudaBackend final : public CovarianceBackend {
  public:
-  CudaBackend(int capacity, int descriptor_length, const EskfSettings& s)
-      : cap_(capacity),
+  CudaBackend(int capacity, int descriptor_length, int pose_dim, const EskfSettings& s)
+      : CovarianceBackend(pose_dim),
+        cap_(capacity),
         D_(descriptor_length),
         device_(s.cuda_device),
-        ld_(paddedLd(stateDim(capacity))),
+        ld_(paddedLd(stateDim(capacity, pose_dim))),
         rank_(s.cuda_rank_update),
         solve_(s.cuda_solve),
         stage_times_(s.cuda_stage_times) {}
@@ -77,6 +83,7 @@ class CudaBackend final : public CovarianceBackend {
     if (failed(desc_.ensure(pool), "cudaMalloc(descriptors)", why)) return false;
     if (failed(desc_tmp_.ensure(pool), "cudaMalloc(descriptors)", why)) return false;
     if (failed(dx_.ensure(ld_), "cudaMalloc(dx)", why)) return false;
+    if (failed(pose_mats_.ensure(2 * kMaxPoseDim * kMaxPoseDim), "cudaMalloc(F, Q)", why)) return false;
     if (failed(cudaStreamSynchronize(stream_), "cudaStreamSynchronize", why)) return false;
     if (stage_times_) {
       for (cudaEvent_t& e : ev_)
@@ -92,24 +99,29 @@ class CudaBackend final : public CovarianceBackend {
   std::size_t memoryBytes() const override {
     return C_.bytes() + work_.bytes() + S_.bytes() + y_.bytes() + dx_.bytes() + potrf_work_.bytes() + H_.bytes() +
            R_.bytes() + slots_.bytes() + ints_.bytes() + desc_.bytes() + desc_tmp_.bytes() + queries_.bytes() +
-           small_.bytes() + work2_.bytes() + y2_.bytes() + trtri_dev_.bytes();
+           small_.bytes() + work2_.bytes() + y2_.bytes() + trtri_dev_.bytes() + pose_mats_.bytes();
   }
 
  protected:
-  Status doReset(const Mat12& C_pose) override {
+  Status doReset(const PoseMat& C_pose) override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
-    std::vector<T> h(144);
-    for (int i = 0; i < 144; ++i) h[i] = static_cast<T>(C_pose.data()[i]);  // column-major
-    HAPI_CUDA_TRY(cudaMemcpy2DAsync(C_.get(), ld_ * sizeof(T), h.data(), 12 * sizeof(T), 12 * sizeof(T), 12,
+    const int P = poseDim();
+    std::vector<T> h(static_cast<std::size_t>(P) * P);
+    for (std::size_t i = 0; i < h.size(); ++i) h[i] = static_cast<T>(C_pose.data()[i]);  // column-major
+    HAPI_CUDA_TRY(cudaMemcpy2DAsync(C_.get(), ld_ * sizeof(T), h.data(), P * sizeof(T), P * sizeof(T), P,
                                     cudaMemcpyHostToDevice, stream_));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     K_ = 0;
     return Status::kOk;
   }
 
-  Status doPredict(const Mat12& F, const Mat12& Q) override {
+  Status doPredict(const PoseMat& F, const PoseMat& Q) override {
     HAPI_CUDA_TRY(cudaSetDevice(device_));
-    HAPI_CUDA_TRY(launchPredict<T>(C_.get(), ld_, n(), toParam(F), toParam(Q), stream_));
+    const int P = poseDim();
+    const std::vector<double> h = rowMajorPair(F, Q);
+    HAPI_CUDA_TRY(cudaMemcpyAsync(pose_mats_.get(), h.data(), h.size() * sizeof(double), cudaMemcpyHostToDevice,
+                                  stream_));
+    HAPI_CUDA_TRY(launchPredict<T>(C_.get(), ld_, n(), P, pose_mats_.get(), pose_mats_.get() + P * P, stream_));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     return Status::kOk;
   }
@@ -121,7 +133,7 @@ class CudaBackend final : public CovarianceBackend {
     HAPI_CUDA_TRY(small_.ensure(81 * slots.size()));
     HAPI_CUDA_TRY(cudaMemcpyAsync(slots_.get(), slots.data(), slots.size() * sizeof(int), cudaMemcpyHostToDevice,
                                   stream_));
-    HAPI_CUDA_TRY(launchMarginals<T>(C_.get(), ld_, slots_.get(), cnt, small_.get(), stream_));
+    HAPI_CUDA_TRY(launchMarginals<T>(C_.get(), ld_, poseDim(), slots_.get(), cnt, small_.get(), stream_));
     std::vector<double> h(81 * slots.size());
     HAPI_CUDA_TRY(cudaMemcpyAsync(h.data(), small_.get(), h.size() * sizeof(double), cudaMemcpyDeviceToHost, stream_));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
@@ -167,9 +179,9 @@ class CudaBackend final : public CovarianceBackend {
     T* P = work_.get();
     const int ldP = static_cast<int>(ld_);
     HAPI_CUDA_TRY(mark(kEvUploaded));
-    HAPI_CUDA_TRY(launchGatherPHt<T>(C_.get(), ld_, nn, slots_.get(), H_.get(), m, P, ld_, stream_));
+    HAPI_CUDA_TRY(launchGatherPHt<T>(C_.get(), ld_, nn, poseDim(), slots_.get(), H_.get(), m, P, ld_, stream_));
     HAPI_CUDA_TRY(mark(kEvGathered));
-    HAPI_CUDA_TRY(launchInnovationCov<T>(P, ld_, slots_.get(), H_.get(), R_.get(), m, S_.get(), stream_));
+    HAPI_CUDA_TRY(launchInnovationCov<T>(P, ld_, poseDim(), slots_.get(), H_.get(), R_.get(), m, S_.get(), stream_));
     // As the reference: a non-finite S is kNonFinite, a failed or numerically
     // singular factor (min L_ii <= 1e-12 sqrt(max S_ii)) kNotPositiveDefinite.
     HAPI_CUDA_TRY(cudaMemsetAsync(ints_.get(), 0, 2 * sizeof(int), stream_));
@@ -293,7 +305,7 @@ class CudaBackend final : public CovarianceBackend {
       HAPI_CUDA_TRY(ints_.ensure(h.size()));
       int* d = ints_.get();
       HAPI_CUDA_TRY(cudaMemcpyAsync(d, h.data(), h.size() * sizeof(int), cudaMemcpyHostToDevice, stream_));
-      HAPI_CUDA_TRY(launchFillHoles<T>(C_.get(), ld_, stateDim(K_new), d, d + K_new, static_cast<int>(moves.size()),
+      HAPI_CUDA_TRY(launchFillHoles<T>(C_.get(), ld_, stateDim(K_new, poseDim()), poseDim(), d, d + K_new, static_cast<int>(moves.size()),
                                        stream_));
       HAPI_CUDA_TRY(launchGatherDescriptors(desc_.get(), d, K_new, D_, desc_tmp_.get(), stream_));
       HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
@@ -326,17 +338,18 @@ class CudaBackend final : public CovarianceBackend {
   }
 
  public:
-  Mat12 poseCovariance() const override {
-    Mat12 out = Mat12::Constant(std::numeric_limits<double>::quiet_NaN());
-    std::vector<T> h(144);
+  PoseMat poseCovariance() const override {
+    const int P = poseDim();
+    PoseMat out = PoseMat::Constant(P, P, std::numeric_limits<double>::quiet_NaN());
+    std::vector<T> h(static_cast<std::size_t>(P) * P);
     if (cudaSetDevice(device_) != cudaSuccess ||
-        cudaMemcpy2DAsync(h.data(), 12 * sizeof(T), C_.get(), ld_ * sizeof(T), 12 * sizeof(T), 12,
+        cudaMemcpy2DAsync(h.data(), P * sizeof(T), C_.get(), ld_ * sizeof(T), P * sizeof(T), P,
                           cudaMemcpyDeviceToHost, stream_) != cudaSuccess ||
         cudaStreamSynchronize(stream_) != cudaSuccess) {
       return out;
     }
-    for (int c = 0; c < 12; ++c)
-      for (int r = c; r < 12; ++r) out(r, c) = out(c, r) = static_cast<double>(h[r + 12 * c]);
+    for (int c = 0; c < P; ++c)
+      for (int r = c; r < P; ++r) out(r, c) = out(c, r) = static_cast<double>(h[r + P * c]);
     return out;
   }
 
@@ -345,7 +358,7 @@ class CudaBackend final : public CovarianceBackend {
     if (K_ == 0) return out;
     std::vector<double> h(9 * static_cast<std::size_t>(K_));
     if (cudaSetDevice(device_) != cudaSuccess || small_.ensure(h.size()) != cudaSuccess ||
-        launchLandmarkBlocks<T>(C_.get(), ld_, K_, small_.get(), stream_) != cudaSuccess ||
+        launchLandmarkBlocks<T>(C_.get(), ld_, poseDim(), K_, small_.get(), stream_) != cudaSuccess ||
         cudaMemcpyAsync(h.data(), small_.get(), h.size() * sizeof(double), cudaMemcpyDeviceToHost, stream_) !=
             cudaSuccess ||
         cudaStreamSynchronize(stream_) != cudaSuccess) {
@@ -382,7 +395,7 @@ class CudaBackend final : public CovarianceBackend {
   }
 
  private:
-  int n() const { return stateDim(K_); }
+  int n() const { return stateDim(K_, poseDim()); }
 
   // Optional per-stage timing of update() (the cuda_stage_times setting,
   // stage_times.hpp): events on the filter's own stream, so the spans include
@@ -454,6 +467,7 @@ class CudaBackend final : public CovarianceBackend {
   mutable DeviceBuffer<int> slots_, ints_;
   mutable DeviceBuffer<uint8_t> queries_;
   mutable DeviceBuffer<double> small_;
+  DeviceBuffer<double> pose_mats_;  // F and Q of predict(), row-major
   mutable std::string last_error_;
 };
 
@@ -484,12 +498,17 @@ bool deviceAvailable(int device, std::string* info) {
   return true;
 }
 
-std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, const EskfSettings& s,
-                                                   std::string* error) {
+std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, int pose_dim,
+                                                   const EskfSettings& s, std::string* error) {
   std::string dummy;
   std::string* err = error != nullptr ? error : &dummy;
   if (capacity < 0 || descriptor_length < 0) {
     *err = "CUDA backend: capacity and descriptor length must be >= 0";
+    return nullptr;
+  }
+  if (pose_dim != kCameraMotionDim && pose_dim != kInertialDim) {
+    *err = "CUDA backend: pose block must have " + std::to_string(kCameraMotionDim) + " or " +
+           std::to_string(kInertialDim) + " rows, got " + std::to_string(pose_dim);
     return nullptr;
   }
   std::string info;
@@ -499,10 +518,10 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
   }
   std::string why;
   if (s.precision == Precision::kFp32) {
-    auto b = std::make_unique<CudaBackend<float>>(capacity, descriptor_length, s);
+    auto b = std::make_unique<CudaBackend<float>>(capacity, descriptor_length, pose_dim, s);
     if (b->init(&why)) return b;
   } else {
-    auto b = std::make_unique<CudaBackend<double>>(capacity, descriptor_length, s);
+    auto b = std::make_unique<CudaBackend<double>>(capacity, descriptor_length, pose_dim, s);
     if (b->init(&why)) return b;
   }
   *err = "CUDA backend (capacity " + std::to_string(capacity) + ") on " + info + ": " + why;

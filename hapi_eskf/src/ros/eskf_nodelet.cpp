@@ -48,10 +48,10 @@ void EskfNodelet::onInit() {
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   // Listen only when a lookup is needed (IMU mounting, base frame): otherwise
   // the node would buffer its own high-rate TF for nothing.
-  if (params_.use_imu || !params_.base_frame.empty())
+  if (params_.usesImu() || !params_.base_frame.empty())
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
-  stats_ = std::make_unique<ros_glue::NodeletStatistics>(params_.use_imu);
-  if (params_.use_imu) imu_ = std::make_unique<ros_glue::ImuInput>(params_, *tf_buffer_, *stats_, getName());
+  stats_ = std::make_unique<ros_glue::NodeletStatistics>(params_.usesImu());
+  if (params_.usesImu()) imu_ = std::make_unique<ros_glue::ImuInput>(params_, *tf_buffer_, *stats_, getName());
 
   // Topics are relative to the nodelet's namespace/name: a nodelet named
   // `eskf` publishes /eskf/odom etc. (private handle) and reads `landmarks`
@@ -85,12 +85,14 @@ void EskfNodelet::onInit() {
   // rate mismatch is handled by the mailbox, where drops are counted.
   landmarks_sub_ = pnh.subscribe("landmarks", 10, &EskfNodelet::landmarksCallback, this,
                                  ros::TransportHints().tcpNoDelay());
-  if (params_.use_imu) imu_sub_ = nh.subscribe(params_.imu_topic, 200, &EskfNodelet::imuCallback, this);
+  if (params_.usesImu()) imu_sub_ = nh.subscribe(params_.imu_topic, 400, &EskfNodelet::imuCallback, this);
 
-  NODELET_INFO("EskfNodelet: backend %s/%s, K_max %d, world_frame '%s', camera_frame '%s', base_frame '%s', imu %s",
+  NODELET_INFO("EskfNodelet: backend %s/%s, K_max %d, motion model %s, world_frame '%s', camera_frame '%s', "
+               "base_frame '%s', imu %s",
                toString(params_.filter.backend), toString(params_.filter.precision), params_.filter.max_landmarks,
-               params_.world_frame.c_str(), camera_frame_.empty() ? "(from first message)" : camera_frame_.c_str(),
-               params_.base_frame.c_str(), params_.use_imu ? params_.imu_topic.c_str() : "off");
+               toString(params_.filter.motion_model), params_.world_frame.c_str(),
+               camera_frame_.empty() ? "(from first message)" : camera_frame_.c_str(), params_.base_frame.c_str(),
+               params_.usesImu() ? params_.imu_topic.c_str() : "off");
 }
 
 bool EskfNodelet::checkStartup() {
@@ -161,8 +163,8 @@ void EskfNodelet::landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& 
     if (camera_frame_.empty()) {
       camera_frame_ = msg->header.frame_id;
       validation_.expected_frame = camera_frame_;
-      if (imu_) imu_->setCameraFrame(camera_frame_);
     }
+    if (imu_) imu_->onLandmarks(camera_frame_, msg->header.stamp.toSec());
     if (validation_.descriptor_length == 0 && !msg->landmarks.empty()) {
       validation_.descriptor_length = msg->descriptor_length;
       validation_.descriptor_type = msg->descriptor_type;
@@ -177,9 +179,9 @@ void EskfNodelet::landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& 
 }
 
 void EskfNodelet::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
-  // IMU-rate output right here (a 12x12 step, no filter access), so it keeps
-  // flowing while the worker is busy with a frame.
-  if (const std::optional<ros_glue::ImuSample> s = imu_->accept(*msg)) output_->publishImuRate(*s);
+  // IMU-rate output right here (a pose-block step, no filter access), so it
+  // keeps flowing while the worker is busy with a frame.
+  if (const std::optional<ros_glue::TimedImuSample> s = imu_->accept(*msg)) output_->publishImuRate(*s);
 }
 
 bool EskfNodelet::resetService(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
@@ -281,14 +283,27 @@ bool EskfNodelet::anchorWorld(const Work& w) {
 }
 
 void EskfNodelet::applyImu(double up_to) {
-  for (const ros_glue::ImuSample& s : imu_->takeUpTo(up_to)) {
-    if (s.stamp <= eskf_->time()) continue;  // older than the filter: nothing to predict
-    const Status st = eskf_->predictWithGyro(s.stamp, s.gyro_camera, params_.gyro_noise_density);
+  // The extrinsic arrives with the first accepted sample (TF); it is static.
+  if (!extrinsic_applied_) {
+    const std::optional<CameraExtrinsic> e = imu_->extrinsic();
+    if (!e) return;  // no sample accepted yet: nothing to apply either
+    const Status st = eskf_->setCameraExtrinsic(*e);
+    if (st != Status::kOk) {
+      ++stats_->counters.filter_errors;
+      NODELET_ERROR_THROTTLE(2.0, "camera-IMU extrinsic from TF rejected: %s (IMU not used)", toString(st));
+      return;
+    }
+    extrinsic_applied_ = true;
+  }
+  for (const ros_glue::TimedImuSample& s : imu_->takeUpTo(up_to)) {
+    if (s.sample.stamp <= eskf_->time()) continue;  // older than the filter: nothing to predict
+    const Status st = eskf_->addImu(s.sample);
     if (st == Status::kOk) {
       ++stats_->counters.imu_used;
     } else {
+      ++stats_->counters.imu_rejected_by_filter;
       ++stats_->counters.imu_dropped;
-      NODELET_WARN_THROTTLE(2.0, "predictWithGyro failed: %s", toString(st));
+      NODELET_WARN_THROTTLE(2.0, "the filter rejected the IMU sample at %.3f: %s", s.sample.stamp, toString(st));
     }
   }
 }
@@ -309,7 +324,7 @@ bool EskfNodelet::process(Work& w) {
     }
     need_init_ = false;
     if (imu_) imu_->dropUpTo(stamp);  // samples before the first frame are not needed
-  } else if (params_.use_imu) {
+  } else if (imu_) {
     applyImu(stamp);
   }
   const ros::WallTime t0 = ros::WallTime::now();
@@ -319,6 +334,12 @@ bool EskfNodelet::process(Work& w) {
     rep.n_landmarks = eskf_->numLandmarks();
   } else {
     st = eskf_->processFrame(w.frame, &rep);
+  }
+  if (st == Status::kAwaitingImu) {
+    // Inertial model: the first alignment_window of IMU samples sets gravity.
+    ++count.frames_awaiting_imu;
+    NODELET_INFO_THROTTLE(1.0, "aligning to gravity: frame at %.3f waits for IMU samples (not processed)", stamp);
+    return true;
   }
   if (st != Status::kOk) {
     ++count.filter_errors;
@@ -338,6 +359,11 @@ bool EskfNodelet::process(Work& w) {
     NODELET_WARN_THROTTLE(1.0, "lost after an input gap: waiting for a frame the map supports (no output)");
     return true;
   }
+  if (rep.vision_led) ++count.frames_vision_led;
+  if (rep.scene_moving) {
+    ++count.frames_scene_moving;
+    NODELET_WARN_THROTTLE(2.0, "the scanned surface moves while the device is still: tracking relative to the surface");
+  }
   if (rep.update_skipped) {
     ++count.update_skips;
     NODELET_WARN_THROTTLE(1.0, "update skipped at %.3f (innovation covariance not PD): prediction only", stamp);
@@ -345,7 +371,7 @@ bool EskfNodelet::process(Work& w) {
   stats_->recordFrame(rep, eskf_->numLandmarks(), eskf_->backend().memoryBytes());
   last_stamp_ = w.stamp;
   const ros_glue::CameraInMap T_map_cam =
-      output_->publishFrame(w.stamp, w.frame_id, eskf_->pose(), eskf_->poseCovariance());
+      output_->publishFrame(w.stamp, w.frame_id, *eskf_);
   trajectory_->record(w.stamp, T_map_cam);
   return true;
 }

@@ -17,13 +17,12 @@ OutputPublisher::OutputPublisher(const NodeletParams& params, ros::Publisher odo
     : world_frame_(params.world_frame),
       base_frame_(params.base_frame),
       publish_tf_(params.publish_tf),
-      gyro_noise_density_(params.gyro_noise_density),
       imu_(imu),
       stats_(stats),
       log_name_(std::move(log_name)),
       odom_pub_(std::move(odom_pub)),
       pose_pub_(std::move(pose_pub)) {
-  if (params.use_imu) propagator_ = std::make_unique<PosePropagator>(params.filter);
+  if (params.usesImu()) propagator_ = std::make_unique<PosePropagator>(params.filter);
 }
 
 void OutputPublisher::setMapAnchor(const Eigen::Isometry3d& T_map_world) {
@@ -38,19 +37,20 @@ Eigen::Isometry3d OutputPublisher::mapFromWorld() const {
 }
 
 CameraInMap OutputPublisher::publishFrame(const ros::Time& stamp, const std::string& camera_frame,
-                                          const PoseState& pose, const Mat12& C) {
+                                          const Eskf& filter) {
   std::lock_guard<std::mutex> lk(mu_);
   camera_frame_ = camera_frame;
+  const PoseState pose = filter.pose();
   const CameraInMap T_map_cam = toCameraInMap(pose, T_map_world_);
-  // With ~use_imu the IMU-rate output may already be past this frame
+  // With an IMU model the IMU-rate output may already be past this frame
   // (front-end latency): outputs keep strictly increasing stamps, and the
   // corrected state reaches the next ones through the re-based propagation.
-  if (stamp.toSec() > last_output_stamp_) publish(stamp, pose, C, T_map_cam);
+  if (stamp.toSec() > last_output_stamp_) publish(stamp, pose, filter.cameraCovariance(), T_map_cam);
   if (propagator_) {
-    propagator_->rebase(pose, C, stamp.toSec());
+    propagator_->rebase(filter);
     // Catch up with the samples already received after this frame (their
     // outputs are out already unless one arrived during this block).
-    for (const ImuSample& s : imu_->samplesAfter(stamp.toSec())) stepAndPublish(s);
+    for (const TimedImuSample& s : imu_->samplesAfter(filter.time())) stepAndPublish(s);
   }
   return T_map_cam;
 }
@@ -61,22 +61,23 @@ void OutputPublisher::restart() {
   if (propagator_) propagator_->invalidate();
 }
 
-void OutputPublisher::publishImuRate(const ImuSample& s) {
+void OutputPublisher::publishImuRate(const TimedImuSample& s) {
   std::lock_guard<std::mutex> lk(mu_);
   stepAndPublish(s);
 }
 
-void OutputPublisher::stepAndPublish(const ImuSample& s) {
-  if (!propagator_ || !propagator_->valid() || s.stamp <= propagator_->time()) return;
-  const Status st = propagator_->step(s.stamp, s.gyro_camera, gyro_noise_density_);
+void OutputPublisher::stepAndPublish(const TimedImuSample& s) {
+  const double t = s.sample.stamp;
+  if (!propagator_ || !propagator_->valid() || t <= propagator_->time()) return;
+  const Status st = propagator_->step(s.sample);
   if (st != Status::kOk) {
-    ROS_WARN_THROTTLE_NAMED(2.0, log_name_, "IMU-rate propagation failed at %.3f: %s", s.stamp, toString(st));
+    ROS_WARN_THROTTLE_NAMED(2.0, log_name_, "IMU-rate propagation failed at %.3f: %s", t, toString(st));
     return;
   }
   // One output per sample: the output rate is the IMU rate.
-  if (s.stamp > last_output_stamp_) {
-    const PoseState& pose = propagator_->pose();
-    publish(s.ros_stamp, pose, propagator_->covariance(), toCameraInMap(pose, T_map_world_));
+  if (t > last_output_stamp_) {
+    const PoseState pose = propagator_->pose();
+    publish(s.ros_stamp, pose, propagator_->cameraCovariance(), toCameraInMap(pose, T_map_world_));
     ++stats_.counters.imu_outputs;
   }
 }

@@ -45,7 +45,7 @@ std::vector<std::string> NodeletParams::problems() const {
   rule(!camera_frame.empty() && camera_frame == world_frame, "~camera_frame must differ from ~world_frame");
   rule(!base_frame.empty() && (base_frame == world_frame || base_frame == camera_frame),
        "~base_frame must differ from ~world_frame and ~camera_frame");
-  rule(use_imu && imu_topic.empty(), "~imu_topic must not be empty when ~use_imu is true");
+  rule(usesImu() && imu_topic.empty(), "~imu_topic must not be empty with ~motion_model gyro or inertial");
   rule(output_dir.empty(), "~output_dir must not be empty");
   return out;
 }
@@ -54,6 +54,13 @@ void readParams(hapi_nodelet_kit::ParamReader& reader, NodeletParams* out) {
   NodeletParams p;  // the tables' defaults
   forEachParameter(p, [&](const FieldInfo& f, auto& v) { readField(reader, f.name, &v); });
   p.time_jump_reset = hapi_nodelet_kit::readTimeJumpReset(reader);
+  // ~use_imu: true was the gyro model before ~motion_model existed.
+  bool use_imu = false;
+  if (reader.read("use_imu", &use_imu)) {
+    reader.warn("~use_imu is deprecated: set ~motion_model (gyro or inertial) instead");
+    if (use_imu && p.filter.motion_model == MotionModelKind::kConstantVelocity)
+      p.filter.motion_model = MotionModelKind::kGyro;
+  }
   for (const std::string& e : p.problems()) reader.error(e);
   p.unknown = reader.warnAboutUnknown("config/eskf.yaml");
   *out = std::move(p);

@@ -1,28 +1,32 @@
 // The nodelet's IMU-rate copy of the filter pose (pose_propagator.hpp).
 #include "hapi_eskf/ros/pose_propagator.hpp"
 
-#include "hapi_eskf/gyro_prediction.hpp"
 #include "hapi_eskf/jacobians.hpp"
 
 namespace hapi_eskf {
 namespace ros_glue {
 
-void PosePropagator::rebase(const PoseState& pose, const Mat12& covariance, double stamp) {
-  pose_ = pose;
-  C_ = covariance;
-  time_ = stamp;
-  valid_ = true;
+void PosePropagator::rebase(const Eskf& filter) {
+  model_ = makeMotionModel(settings_, filter.motionModel().extrinsic());
+  x_ = filter.state();
+  C_ = filter.poseCovariance();
+  time_ = filter.time();
 }
 
-// The filter's gyro step (gyro_prediction.hpp), applied to the 12x12 pose
-// covariance only.
-Status PosePropagator::step(double stamp, const Vec3& gyro_camera, double sigma_gyro) {
-  if (!valid_) return Status::kNotInitialised;
-  return predictWithGyroStep(&pose_, &time_, stamp, gyro_camera, sigma_gyro, settings_,
-                             [this](const Mat12& F, const Mat12& Q) {
-                               C_ = predictPoseCovariance(C_, F, Q);
-                               return Status::kOk;
-                             });
+// The filter's step (motion_model.hpp predictStep), applied to the pose
+// block's covariance only.
+Status PosePropagator::step(const ImuSample& sample) {
+  if (!model_) return Status::kNotInitialised;
+  return predictStep(*model_, &x_, &time_, sample.stamp, &sample, [this](const PoseMat& F, const PoseMat& Q) {
+    C_ = predictPoseCovariance(C_, F, Q);
+    return Status::kOk;
+  });
+}
+
+PoseState PosePropagator::pose() const { return model_ ? model_->camera(x_) : PoseState(); }
+
+Mat12 PosePropagator::cameraCovariance() const {
+  return model_ ? hapi_eskf::cameraCovariance(*model_, x_, C_) : Mat12::Zero();
 }
 
 }  // namespace ros_glue

@@ -44,6 +44,13 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   prev_processed_ = processed;
   prev_rejected_ = rejected;
   prev_dropped_ = dropped;
+  const std::uint64_t scene_moving = counters.frames_scene_moving, vision_led = counters.frames_vision_led,
+                      awaiting = counters.frames_awaiting_imu;
+  const std::uint64_t new_scene_moving = scene_moving - prev_scene_moving_, new_vision_led = vision_led - prev_vision_led_,
+                      new_awaiting = awaiting - prev_awaiting_imu_;
+  prev_scene_moving_ = scene_moving;
+  prev_vision_led_ = vision_led;
+  prev_awaiting_imu_ = awaiting;
 
   StageStats s;
   std::string backend, last_error;
@@ -58,12 +65,24 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     landmarks = n_landmarks_;
     last_error = last_filter_error_;
   }
+  // Most important first: input problems, then the filter's own state.
   if (new_rejected > 0)
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%llu input messages rejected in the last %.1f s",
                   static_cast<unsigned long long>(new_rejected), dt);
   else if (new_dropped > 0)
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%llu frames dropped (processing slower than input)",
                   static_cast<unsigned long long>(new_dropped));
+  else if (new_scene_moving > 0)
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                  "scanned surface moving (IMU still, images moving) in %llu frames: tracking the camera relative "
+                  "to the surface",
+                  static_cast<unsigned long long>(new_scene_moving));
+  else if (new_vision_led > 0)
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                  "IMU prediction and map fit disagreed in %llu frames: vision leads",
+                  static_cast<unsigned long long>(new_vision_led));
+  else if (new_awaiting > 0)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "aligning to gravity (collecting IMU samples)");
   else if (accepted == 0)
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "waiting for landmarks");
   else
@@ -111,7 +130,19 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   if (use_imu_) {
     stat.add("imu_samples_used", counters.imu_used.load());
     stat.add("imu_samples_dropped", counters.imu_dropped.load());
+    stat.add("imu_dropped_invalid", counters.imu_invalid.load());
+    stat.add("imu_dropped_saturated", counters.imu_saturated.load());
+    stat.add("imu_dropped_before_frames", counters.imu_before_frames.load());
+    stat.add("imu_dropped_far_from_frames", counters.imu_far_from_frames.load());
+    stat.add("imu_dropped_no_extrinsic", counters.imu_no_extrinsic.load());
+    stat.add("imu_dropped_out_of_order", counters.imu_out_of_order.load());
+    stat.add("imu_dropped_overflow", counters.imu_overflow.load());
+    stat.add("imu_rejected_by_filter", counters.imu_rejected_by_filter.load());
+    stat.add("imu_gaps", counters.imu_gaps.load());
     stat.add("imu_rate_outputs", counters.imu_outputs.load());
+    stat.add("frames_awaiting_imu", awaiting);
+    stat.add("frames_vision_led", vision_led);
+    stat.add("frames_scene_moving", scene_moving);
   }
 }
 

@@ -29,10 +29,10 @@ using testing_random::Rng;
 using testing_random::randomBlock;
 using testing_random::randomNewBlock;
 
-inline Mat12 randomF(Rng& r) {
-  Mat12 F = Mat12::Identity();
-  for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 12; ++j) F(i, j) += r.n(0.05);
+inline PoseMat randomF(Rng& r, int P = kCameraMotionDim) {
+  PoseMat F = PoseMat::Identity(P, P);
+  for (int i = 0; i < P; ++i)
+    for (int j = 0; j < P; ++j) F(i, j) += r.n(0.05);
   return F;
 }
 
@@ -70,11 +70,12 @@ struct BackendPair {
   std::unique_ptr<CovarianceBackend> cpu, gpu;
   int dlen;
 
-  BackendPair(int capacity, int descriptor_length, const EskfSettings& gpu_settings = cudaSettings())
+  BackendPair(int capacity, int descriptor_length, const EskfSettings& gpu_settings = cudaSettings(),
+              int pose_dim = kCameraMotionDim)
       : dlen(descriptor_length) {
-    cpu = makeCpuBackend(capacity, descriptor_length);
+    cpu = makeCpuBackend(capacity, descriptor_length, pose_dim);
     std::string err;
-    gpu = cuda::makeCudaBackend(capacity, descriptor_length, gpu_settings, &err);
+    gpu = cuda::makeCudaBackend(capacity, descriptor_length, pose_dim, gpu_settings, &err);
     EXPECT_TRUE(gpu != nullptr) << err;
   }
 

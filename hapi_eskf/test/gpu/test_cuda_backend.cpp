@@ -22,26 +22,32 @@ TEST(CudaBackend, FactoryReportsDeviceOrReason) {
   const bool ok = cuda::deviceAvailable(0, &why);
   EXPECT_FALSE(why.empty());
   std::string err;
-  auto b = cuda::makeCudaBackend(10, 32, cudaSettings(), &err);
+  auto b = cuda::makeCudaBackend(10, 32, kCameraMotionDim, cudaSettings(), &err);
   EXPECT_EQ(ok, b != nullptr) << err;
   if (!ok) EXPECT_FALSE(err.empty());
-  EXPECT_EQ(cuda::makeCudaBackend(-1, 32, cudaSettings(), &err), nullptr);
+  EXPECT_EQ(cuda::makeCudaBackend(-1, 32, kCameraMotionDim, cudaSettings(), &err), nullptr);
+  EXPECT_EQ(cuda::makeCudaBackend(10, 32, 15, cudaSettings(), &err), nullptr);  // no kernel for that pose block
   EskfSettings absent = cudaSettings();
   absent.cuda_device = 999;
-  EXPECT_EQ(cuda::makeCudaBackend(10, 32, absent, &err), nullptr);
+  EXPECT_EQ(cuda::makeCudaBackend(10, 32, kCameraMotionDim, absent, &err), nullptr);
   EXPECT_FALSE(err.empty());
 }
 
-TEST(CudaBackend, EachMethodMatchesCpu) {
+// Every method, with the pose block of each motion model (types.hpp).
+class CudaBackendPoseBlock : public testing::TestWithParam<int> {};
+
+TEST_P(CudaBackendPoseBlock, EachMethodMatchesCpu) {
   HAPI_REQUIRE_CUDA_DEVICE();
+  const int P = GetParam();
   Rng r(1);
-  BackendPair p(60, 32);
+  BackendPair p(60, 32, cudaSettings(), P);
   ASSERT_TRUE(p.gpu);
   EXPECT_EQ(p.gpu->capacity(), 60);
+  EXPECT_EQ(p.gpu->poseDim(), P);
   EXPECT_EQ(p.gpu->descriptorLength(), 32);
-  EXPECT_GE(p.gpu->memoryBytes(), sizeof(double) * std::size_t(stateDim(60)) * stateDim(60));
+  EXPECT_GE(p.gpu->memoryBytes(), sizeof(double) * std::size_t(stateDim(60, P)) * stateDim(60, P));
 
-  const Mat12 C0 = r.spd12(0.01);
+  const PoseMat C0 = r.spd(P, 0.01);
   ASSERT_EQ(p.cpu->reset(C0), Status::kOk);
   ASSERT_EQ(p.gpu->reset(C0), Status::kOk);
   p.expectStatesEqual(0.0, "reset");  // a copy: bit-exact
@@ -51,7 +57,7 @@ TEST(CudaBackend, EachMethodMatchesCpu) {
   p.addRandom(r, 1);
   p.expectStatesEqual(kTol, "add 1");
 
-  const Mat12 F = randomF(r), Q = r.spd12(1e-4);
+  const PoseMat F = randomF(r, P), Q = r.spd(P, 1e-4);
   ASSERT_EQ(p.cpu->predict(F, Q), Status::kOk);
   ASSERT_EQ(p.gpu->predict(F, Q), Status::kOk);
   p.expectStatesEqual(kTol, "predict");
@@ -104,6 +110,8 @@ TEST(CudaBackend, EachMethodMatchesCpu) {
   EXPECT_EQ(og[2].best_slot, 6);
   EXPECT_EQ(og[2].best_distance, 1);
 }
+
+INSTANTIATE_TEST_SUITE_P(MotionModels, CudaBackendPoseBlock, testing::Values(kCameraMotionDim, kInertialDim));
 
 TEST(CudaBackend, HammingTiesGoToTheLowestSlotLikeCpu) {
   HAPI_REQUIRE_CUDA_DEVICE();
@@ -261,9 +269,9 @@ TEST(CudaBackend, LargePoolRemovalAndGatherMatchCpu) {
     const Eigen::MatrixXd before = p.gpu->denseCovariance();
     const int K = p.gpu->numLandmarks();
     std::vector<int> idx;
-    for (int i = 0; i < kPoseDim; ++i) idx.push_back(i);
+    for (int i = 0; i < kCameraMotionDim; ++i) idx.push_back(i);
     for (int k : oldSlotOfNew(K, rem))
-      for (int c = 0; c < 3; ++c) idx.push_back(landmarkRow(k) + c);
+      for (int c = 0; c < 3; ++c) idx.push_back(landmarkRow(k, kCameraMotionDim) + c);
     Eigen::MatrixXd expect(idx.size(), idx.size());
     for (std::size_t c = 0; c < idx.size(); ++c)
       for (std::size_t i = 0; i < idx.size(); ++i) expect(i, c) = before(idx[i], idx[c]);

@@ -84,7 +84,9 @@ TEST(EskfParams, ReadRules) {
   EXPECT_EQ(p.map_publish_rate, 2.0);
   EXPECT_EQ(p.filter.relocalise_gap, 3.0);
   EXPECT_EQ(p.filter.cuda_solve, hapi_eskf::CudaSolve::kInverse);
-  EXPECT_TRUE(p.use_imu);
+  // The deprecated ~use_imu: true selects the gyro model (and is not unknown).
+  EXPECT_EQ(p.filter.motion_model, hapi_eskf::MotionModelKind::kGyro);
+  EXPECT_TRUE(p.usesImu());
   EXPECT_EQ(p.unknown, (std::vector<std::string>{"max_landmark"}));
   // A present parameter of the wrong type, an unknown enum name, a value out
   // of its range, a broken rule between parameters: refused, *out untouched.
@@ -104,9 +106,13 @@ TEST(EskfParams, ReadRules) {
   EXPECT_EQ(loadParams(ros::NodeHandle("/range"), &p), "~time_jump_reset must be >= 0 s, got -1");
   ros::param::set("/filter_range/ransac_iterations", -5);
   EXPECT_EQ(loadParams(ros::NodeHandle("/filter_range"), &p), "ransac_iterations must be in [0, 100000], got -5");
-  ros::param::set("/rule/use_imu", true);
+  ros::param::set("/rule/motion_model", std::string("inertial"));
   ros::param::set("/rule/imu_topic", std::string(""));
-  EXPECT_EQ(loadParams(ros::NodeHandle("/rule"), &p), "~imu_topic must not be empty when ~use_imu is true");
+  EXPECT_EQ(loadParams(ros::NodeHandle("/rule"), &p),
+            "~imu_topic must not be empty with ~motion_model gyro or inertial");
+  ros::param::set("/model/motion_model", std::string("imu"));
+  EXPECT_EQ(loadParams(ros::NodeHandle("/model"), &p),
+            "~motion_model must be 'constant_velocity', 'gyro' or 'inertial', got 'imu'");
   EXPECT_EQ(values(p), values(before));
   EXPECT_EQ(p.time_jump_reset, before.time_jump_reset);
 }

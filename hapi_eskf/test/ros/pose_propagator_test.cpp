@@ -1,5 +1,7 @@
-// The IMU-rate propagation copy must equal the filter after the same gyro
-// samples (pose and 12x12 pose covariance), and reject what the filter rejects.
+// The IMU-rate propagation copy must equal the filter after the same IMU
+// samples (pose, pose-block covariance and the camera covariance of the
+// outputs), for the gyro and the inertial model, and reject what the filter
+// rejects.
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/ros/pose_propagator.hpp"
 
@@ -7,9 +9,13 @@
 
 #include <cmath>
 
+using hapi_eskf::CameraExtrinsic;
 using hapi_eskf::Eskf;
 using hapi_eskf::EskfSettings;
+using hapi_eskf::ImuSample;
 using hapi_eskf::Mat12;
+using hapi_eskf::MotionModelKind;
+using hapi_eskf::PoseMat;
 using hapi_eskf::PoseState;
 using hapi_eskf::Status;
 using hapi_eskf::Vec3;
@@ -17,60 +23,85 @@ using hapi_eskf::ros_glue::PosePropagator;
 
 namespace {
 
-Vec3 gyroAt(double t) { return Vec3(0.3 * std::sin(2.0 * t), -0.2 + 0.1 * t, 0.5 * std::cos(3.0 * t)); }
+ImuSample sampleAt(double t) {
+  return ImuSample{t, Vec3(0.3 * std::sin(2.0 * t), -0.2 + 0.1 * t, 0.5 * std::cos(3.0 * t)),
+                   Vec3(0.2 * std::cos(t), 9.81 + 0.1 * std::sin(4.0 * t), 0.3)};
+}
+
+class PosePropagatorModels : public testing::TestWithParam<MotionModelKind> {};
 
 }  // namespace
 
-TEST(PosePropagator, EqualsTheFilterAfterTheSameGyroSamples) {
+TEST_P(PosePropagatorModels, EqualsTheFilterAfterTheSameImuSamples) {
   EskfSettings s;
   s.max_landmarks = 100;
   s.max_update_landmarks = 50;
+  s.motion_model = GetParam();
   s.velocity_damping = 0.9;  // exercise the damping terms too
   s.angular_velocity_damping = 0.8;
+  s.gyro_noise_density = 1.7e-3;
   ASSERT_EQ(s.validate(), "");
-  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32));
+  CameraExtrinsic e;
+  e.R_imu_cam = Eigen::AngleAxisd(-M_PI / 2, Vec3::UnitX()).toRotationMatrix();
+  e.p_imu_cam = Vec3(0.02, -0.01, 0.03);
+  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::poseDim(s.motion_model)), e);
   PoseState x0;
   x0.p = Vec3(0.1, -0.2, 0.3);
   x0.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()));
   x0.v = Vec3(0.5, 0.0, -0.3);
   x0.w = Vec3(0.0, 0.2, 0.1);
   ASSERT_EQ(eskf.reset(x0, 10.0), Status::kOk);
-  ASSERT_EQ(eskf.predictTo(10.1), Status::kOk);  // correlated pose covariance
+  double t = 10.0;
+  while (eskf.awaitingAlignment()) {  // inertial: the gravity alignment first
+    t += 0.005;
+    ASSERT_EQ(eskf.addImu(sampleAt(t)), Status::kOk);
+  }
+  ASSERT_EQ(eskf.predictTo(t + 0.1), Status::kOk);  // correlated pose covariance
+  t += 0.1;
 
   PosePropagator prop(s);
-  prop.rebase(eskf.pose(), eskf.poseCovariance(), eskf.time());
-  const double sigma = 1.7e-3;
+  prop.rebase(eskf);
+  const PoseState start = prop.pose();
   for (int i = 1; i <= 50; ++i) {
-    const double t = 10.1 + 0.01 * i;
-    ASSERT_EQ(eskf.predictWithGyro(t, gyroAt(t), sigma), Status::kOk);
-    ASSERT_EQ(prop.step(t, gyroAt(t), sigma), Status::kOk);
+    const ImuSample m = sampleAt(t + 0.01 * i);
+    ASSERT_EQ(eskf.addImu(m), Status::kOk);
+    ASSERT_EQ(prop.step(m), Status::kOk);
   }
   EXPECT_DOUBLE_EQ(prop.time(), eskf.time());
   EXPECT_LT((prop.pose().p - eskf.pose().p).norm(), 1e-12);
   EXPECT_LT(prop.pose().q.angularDistance(eskf.pose().q), 1e-12);
   EXPECT_LT((prop.pose().v - eskf.pose().v).norm(), 1e-12);
   EXPECT_LT((prop.pose().w - eskf.pose().w).norm(), 1e-12);
-  const Mat12 C = eskf.poseCovariance();
+  const PoseMat C = eskf.poseCovariance();
+  EXPECT_EQ(prop.covariance().rows(), hapi_eskf::poseDim(s.motion_model));
   EXPECT_LT((prop.covariance() - C).norm(), 1e-12 * C.norm()) << prop.covariance() - C;
+  const Mat12 Cc = eskf.cameraCovariance();
+  EXPECT_LT((prop.cameraCovariance() - Cc).norm(), 1e-12 * Cc.norm());
   // The rotation really moved (the comparison is not between two no-ops).
-  EXPECT_GT(prop.pose().q.angularDistance(x0.q), 0.01);
+  EXPECT_GT(prop.pose().q.angularDistance(start.q), 0.01);
 }
+
+INSTANTIATE_TEST_SUITE_P(ImuModels, PosePropagatorModels,
+                         testing::Values(MotionModelKind::kGyro, MotionModelKind::kInertial));
 
 TEST(PosePropagator, RejectsWhatTheFilterRejects) {
   EskfSettings s;
+  s.motion_model = MotionModelKind::kGyro;
   PosePropagator prop(s);
   EXPECT_FALSE(prop.valid());
-  EXPECT_EQ(prop.step(1.0, Vec3::Zero(), 1e-3), Status::kNotInitialised);
-  Mat12 C = Mat12::Identity() * 1e-4;
-  prop.rebase(PoseState(), C, 1.0);
-  EXPECT_EQ(prop.step(0.99, Vec3::Zero(), 1e-3), Status::kInvalidArgument);  // before time()
-  EXPECT_EQ(prop.step(1.01, Vec3(NAN, 0, 0), 1e-3), Status::kNonFinite);
-  EXPECT_EQ(prop.step(1.01, Vec3::Zero(), 0.0), Status::kInvalidArgument);
+  EXPECT_EQ(prop.step(ImuSample{1.0, Vec3::Zero(), Vec3::Zero()}), Status::kNotInitialised);
+  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32));
+  ASSERT_EQ(eskf.reset(PoseState(), 1.0), Status::kOk);
+  prop.rebase(eskf);
+  const PoseMat C = prop.covariance();
+  EXPECT_EQ(prop.step(ImuSample{0.99, Vec3::Zero(), Vec3::Zero()}), Status::kInvalidArgument);  // before time()
+  EXPECT_EQ(prop.step(ImuSample{1.01, Vec3(NAN, 0, 0), Vec3::Zero()}), Status::kNonFinite);
+  EXPECT_EQ(prop.step(ImuSample{1.01, Vec3::Zero(), Vec3(0, NAN, 0)}), Status::kNonFinite);
   EXPECT_DOUBLE_EQ(prop.time(), 1.0);  // unchanged by the failures
   EXPECT_EQ((prop.covariance() - C).norm(), 0.0);
-  EXPECT_EQ(prop.step(1.0, Vec3::Zero(), 1e-3), Status::kOk);  // dt = 0: no-op
-  EXPECT_EQ(prop.step(1.02, Vec3(0, 0, 1), 1e-3), Status::kOk);
+  EXPECT_EQ(prop.step(ImuSample{1.0, Vec3::Zero(), Vec3::Zero()}), Status::kOk);  // dt = 0: no-op
+  EXPECT_EQ(prop.step(ImuSample{1.02, Vec3(0, 0, 1), Vec3::Zero()}), Status::kOk);
   EXPECT_NEAR(prop.pose().q.angularDistance(Eigen::Quaterniond::Identity()), 0.02, 1e-9);
   prop.invalidate();
-  EXPECT_EQ(prop.step(1.03, Vec3::Zero(), 1e-3), Status::kNotInitialised);
+  EXPECT_EQ(prop.step(ImuSample{1.03, Vec3::Zero(), Vec3::Zero()}), Status::kNotInitialised);
 }

@@ -8,13 +8,14 @@
 namespace hapi_eskf {
 namespace cuda {
 
-// A backend for `capacity` landmarks with the device-side settings of `s`:
+// A backend for `capacity` landmarks and a pose block of pose_dim rows (12
+// or 18, types.hpp) with the device-side settings of `s`:
 // precision, cuda_device, cuda_rank_update, cuda_solve, cuda_stage_times
 // (the pool size is separate so that tests and the benchmark can size a pool
 // without a complete filter configuration; makeBackend passes max_landmarks).
 // nullptr and *error on failure (no device, out of memory ...).
-std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, const EskfSettings& s,
-                                                   std::string* error);
+std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, int pose_dim,
+                                                   const EskfSettings& s, std::string* error);
 // Device usable? "CUDA device N: name + memory" in *info, else
 // "CUDA device N ...: why not".
 bool deviceAvailable(int device, std::string* info);

@@ -122,6 +122,7 @@ class EskfNodelet : public nodelet::Nodelet {
   // Worker-owned filter state.
   std::unique_ptr<Eskf> eskf_;
   bool need_init_ = true;
+  bool extrinsic_applied_ = false;  // the camera-IMU extrinsic from TF is in the filter
   ros::Time last_stamp_;
 
   // Entry points, declared last so that they go first: the destructor stops

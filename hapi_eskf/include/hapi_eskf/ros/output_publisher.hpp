@@ -1,10 +1,10 @@
 // Pose outputs of hapi_eskf/EskfNodelet: ~odom (nav_msgs/Odometry), ~pose
 // (PoseWithCovarianceStamped) and TF world_frame -> camera (or base) frame,
 // always with strictly increasing stamps. Owns the map anchoring (REP-105:
-// T_map_world, identity unless ~base_frame) and, with ~use_imu, the IMU-rate
-// output: a copy of the pose re-based on the filter after every frame and
-// stepped by every newer gyro sample (pose_propagator.hpp), so outputs keep
-// flowing at the IMU rate while the worker is busy with a frame.
+// T_map_world, identity unless ~base_frame) and, with an IMU motion model,
+// the IMU-rate output: a copy of the pose block re-based on the filter after
+// every frame and stepped by every newer IMU sample (pose_propagator.hpp), so
+// outputs keep flowing at the IMU rate while the worker is busy with a frame.
 //
 // Threads: the worker (anchoring, per-frame output, filter reset) and the IMU
 // callback (publishImuRate). mu_ guards everything.
@@ -28,7 +28,8 @@ namespace ros_glue {
 
 class OutputPublisher {
  public:
-  // `imu`: the IMU input with ~use_imu (else null; must outlive this object);
+  // `imu`: the IMU input with an IMU motion model (else null; must outlive
+  // this object);
   // `log_name` is the nodelet's logger name.
   OutputPublisher(const NodeletParams& params, ros::Publisher odom_pub, ros::Publisher pose_pub,
                   const ImuInput* imu, NodeletStatistics& stats, std::string log_name);
@@ -42,22 +43,20 @@ class OutputPublisher {
   // After a processed frame: publishes its pose (unless the IMU-rate output
   // is already past it), re-bases the IMU-rate copy and catches up with the
   // samples already received. Returns T_map_cam of the frame (for the path).
-  CameraInMap publishFrame(const ros::Time& stamp, const std::string& camera_frame, const PoseState& pose,
-                           const Mat12& C);
+  CameraInMap publishFrame(const ros::Time& stamp, const std::string& camera_frame, const Eskf& filter);
   // Filter reset: the new timeline may start earlier; the copy is void.
   void restart();
 
-  // --- IMU callback (~use_imu) ---
-  // One gyro step of the copy and its output.
-  void publishImuRate(const ImuSample& s);
+  // --- IMU callback (IMU motion model) ---
+  // One step of the copy and its output.
+  void publishImuRate(const TimedImuSample& s);
 
  private:
-  void stepAndPublish(const ImuSample& s);  // under mu_
+  void stepAndPublish(const TimedImuSample& s);  // under mu_
   void publish(const ros::Time& stamp, const PoseState& pose, const Mat12& C, const CameraInMap& T_map_cam);
 
   const std::string world_frame_, base_frame_;
   const bool publish_tf_;
-  const double gyro_noise_density_;
   const ImuInput* const imu_;
   NodeletStatistics& stats_;
   const std::string log_name_;
@@ -68,7 +67,7 @@ class OutputPublisher {
   Eigen::Isometry3d T_map_world_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_cam_base_ = Eigen::Isometry3d::Identity();
   std::string camera_frame_;  // child frame: the camera frame of the last processed frame
-  std::unique_ptr<PosePropagator> propagator_;  // ~use_imu only
+  std::unique_ptr<PosePropagator> propagator_;  // IMU motion model only
   double last_output_stamp_ = -1.0;
 };
 

@@ -35,8 +35,11 @@ struct NodeletParams {
 
   // Every violated rule, each naming its parameter: the filter's settings,
   // every field against its table range, then the rules between parameters
-  // (distinct frames, imu_topic with use_imu). Empty when valid.
+  // (distinct frames, imu_topic with an IMU model). Empty when valid.
   std::vector<std::string> problems() const;
+
+  // The motion model reads the IMU (gyro, inertial): subscribe to imu_topic.
+  bool usesImu() const { return filter.motion_model != MotionModelKind::kConstantVelocity; }
 };
 
 // Calls visit(const FieldInfo&, field) for every nodelet parameter of `p`

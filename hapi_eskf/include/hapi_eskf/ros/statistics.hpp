@@ -37,12 +37,18 @@ class NodeletStatistics {
     Counter resets{0}, time_jumps{0}, update_skips{0}, filter_errors{0};
     Counter relocalisations{0}, frames_relocalising{0};
     Counter imu_used{0}, imu_dropped{0};
-    Counter outputs{0};      // odom/pose/TF outputs (per frame, or per gyro sample with ~use_imu)
+    // Drops by reason (their sum is imu_dropped) and gaps (samples kept).
+    Counter imu_invalid{0}, imu_saturated{0}, imu_before_frames{0}, imu_far_from_frames{0}, imu_no_extrinsic{0},
+        imu_out_of_order{0}, imu_overflow{0}, imu_rejected_by_filter{0};
+    Counter imu_gaps{0};
+    Counter frames_awaiting_imu{0};  // inertial model not yet aligned to gravity
+    Counter frames_vision_led{0}, frames_scene_moving{0};  // IMU and vision disagreed (scene_motion_monitor.hpp)
+    Counter outputs{0};      // odom/pose/TF outputs (per frame, or per IMU sample with an IMU model)
     Counter imu_outputs{0};  // of which from the IMU-rate propagation
     std::array<Counter, kRejectCount> rejected{};  // by Reject reason
   };
 
-  // `use_imu`: the IMU counters are reported only with ~use_imu.
+  // `use_imu`: the IMU counters are reported only with an IMU motion model.
   explicit NodeletStatistics(bool use_imu);
 
   Counters counters;
@@ -74,7 +80,8 @@ class NodeletStatistics {
   int n_landmarks_ = 0;
   // Counter values and time of the previous report (for the rates);
   // diagnostics timer only.
-  std::uint64_t prev_outputs_ = 0, prev_accepted_ = 0, prev_processed_ = 0, prev_rejected_ = 0, prev_dropped_ = 0;
+  std::uint64_t prev_outputs_ = 0, prev_accepted_ = 0, prev_processed_ = 0, prev_rejected_ = 0, prev_dropped_ = 0,
+                prev_scene_moving_ = 0, prev_vision_led_ = 0, prev_awaiting_imu_ = 0;
   ros::WallTime prev_time_;
 };
 

@@ -1,0 +1,48 @@
+// Watches whether IMU and vision agree (docs/DESIGN.md "Scene motion"). The
+// HAPI device scans skin: when the subject moves while the device is held
+// still, the IMU (correctly) reports no motion while every landmark moves in
+// the images. The filter must then follow the camera relative to the
+// surface, which is what motion compensation needs, instead of trusting the
+// IMU prediction and gating all landmarks out. Per frame this looks at the
+// map's rigid fit (RANSAC): when the gate around the IMU-predicted pose
+// rejects more than disagreement_fraction of the fit's inliers, the map
+// agrees with itself on a pose the prediction does not allow, and vision
+// leads for disagreement_hold seconds. The test is scale-free: it needs no
+// distance threshold, only the covariances the gate already uses. Whether
+// the device itself was still meanwhile (the spread of the recent gyro and
+// accelerometer samples below the static thresholds of the alignment) tells
+// "the scene moved" from "the prediction was wrong".
+#pragma once
+
+#include "hapi_eskf/motion_model.hpp"
+
+#include <deque>
+#include <limits>
+
+namespace hapi_eskf {
+
+struct SceneMotionVerdict {
+  bool vision_leads = false;  // this frame: pose means moved to the fit
+  bool disagreed = false;     // this frame's fit inliers were mostly gated out
+  bool device_still = false;  // the recent IMU samples say the device did not move
+};
+
+class SceneMotionMonitor {
+ public:
+  explicit SceneMotionMonitor(const EskfSettings& s) : s_(s) {}
+
+  void addImu(const ImuSample& m);
+  // One frame at `stamp` with a fit of fit_inliers landmarks, of which the
+  // gate around the prediction rejected inliers_gated_out.
+  SceneMotionVerdict onFrame(double stamp, int fit_inliers, int inliers_gated_out);
+  void reset();
+
+ private:
+  bool deviceStill() const;
+
+  EskfSettings s_;
+  std::deque<ImuSample> recent_;  // the last alignment_window seconds
+  double last_disagreement_ = -std::numeric_limits<double>::infinity();
+};
+
+}  // namespace hapi_eskf

@@ -1,0 +1,58 @@
+// Gravity alignment of the inertial start (inertial_alignment.hpp).
+#include "hapi_eskf/inertial_alignment.hpp"
+
+#include <cmath>
+
+namespace hapi_eskf {
+
+Status alignInertialStart(const std::vector<ImuSample>& window, const MotionModel& model, const EskfSettings& s,
+                          InertialStart* out) {
+  if (out == nullptr || window.size() < 2 || model.kind() != MotionModelKind::kInertial)
+    return Status::kInvalidArgument;
+  Vec3 w_mean = Vec3::Zero(), f_mean = Vec3::Zero();
+  for (const ImuSample& m : window) {
+    if (!m.gyro.allFinite() || !m.accel.allFinite() || !std::isfinite(m.stamp)) return Status::kNonFinite;
+    w_mean += m.gyro;
+    f_mean += m.accel;
+  }
+  const double n = static_cast<double>(window.size());
+  w_mean /= n;
+  f_mean /= n;
+  double w_var = 0.0, f_var = 0.0;
+  for (const ImuSample& m : window) {
+    w_var += (m.gyro - w_mean).squaredNorm();
+    f_var += (m.accel - f_mean).squaredNorm();
+  }
+  InertialStart r;
+  r.gyro_spread = std::sqrt(w_var / n);
+  r.accel_spread = std::sqrt(f_var / n);
+  r.specific_force = f_mean.norm();
+  // Below a quarter of g no direction is trustworthy.
+  if (!(r.specific_force > 0.25 * s.gravity_magnitude)) return Status::kEmptyInput;
+  r.still = r.gyro_spread < s.static_gyro_threshold && r.accel_spread < s.static_accel_threshold;
+
+  // At rest the accelerometer reads -R_wb^T g = |g| R_wb^T z: R_wb takes the
+  // mean specific force to +z.
+  const Eigen::Quaterniond q_wb = Eigen::Quaterniond::FromTwoVectors(f_mean, Vec3::UnitZ());
+  PoseState camera;
+  camera.q = (q_wb * Eigen::Quaterniond(model.extrinsic().R_imu_cam)).normalized();
+  camera.p = Vec3::Zero();
+  r.x = model.fromCamera(camera);
+  r.x.g = Vec3(0.0, 0.0, -s.gravity_magnitude);
+  r.x.w = window.back().gyro;
+  r.x.f = window.back().accel;
+  r.x.has_imu = true;
+  r.C = model.initialCovariance();
+  const double span = window.back().stamp - window.front().stamp;
+  if (r.still) {
+    r.x.b_g = w_mean;
+    // Standard error of the mean of white noise of density n over the span.
+    const double sigma_bg = s.gyro_noise_density / std::sqrt(std::max(span, 1e-3));
+    r.C.block<3, 3>(kIdxBg, kIdxBg) = Mat3::Identity() * sigma_bg * sigma_bg;
+    r.C.block<3, 3>(kIdxV, kIdxV) = Mat3::Identity() * s.static_sigma_velocity * s.static_sigma_velocity;
+  }
+  *out = r;
+  return Status::kOk;
+}
+
+}  // namespace hapi_eskf

@@ -1,0 +1,411 @@
+// The inertial motion model and filter (motion_model.hpp, docs/DESIGN.md
+// "Inertial prediction", "Inertial initialisation"):
+//  * the step's F and the camera Jacobian against central finite differences;
+//  * the step's Q against the Monte-Carlo spread of noisy propagations;
+//  * the gravity alignment of a still and of a moving start;
+//  * the whole filter on an analytic trajectory with a biased, noisy IMU:
+//    the pose follows the truth and the bias estimates end within 3 sigma.
+#include "basic_settings.hpp"
+#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/inertial_alignment.hpp"
+#include "inertial_scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace hapi_eskf {
+namespace {
+
+EskfSettings inertialSettings() {
+  EskfSettings s = testing_settings::basicFilter();
+  s.motion_model = MotionModelKind::kInertial;
+  return s;
+}
+
+NominalState someState() {
+  NominalState x;
+  x.p = Vec3(0.3, -0.2, 1.1);
+  x.q = quatExp(Vec3(0.3, -0.5, 0.8));
+  x.v = Vec3(0.4, -0.1, 0.2);
+  x.b_g = Vec3(0.01, -0.02, 0.005);
+  x.b_a = Vec3(0.1, 0.05, -0.08);
+  x.g = Vec3(0.05, -0.02, -9.8);
+  x.w = Vec3(0.7, -0.4, 1.1);
+  x.f = Vec3(0.5, 9.6, -1.2);
+  x.has_imu = true;
+  return x;
+}
+
+// d errorBetween(step(x (+) d), step(x)) / d, by central differences.
+Eigen::MatrixXd numericStepJacobian(const MotionModel& m, const NominalState& x, double dt, const ImuSample& imu) {
+  const int P = m.poseDim();
+  NominalState y0, y;
+  PoseMat F, Q;
+  m.step(x, dt, &imu, &y0, &F, &Q);
+  Eigen::MatrixXd J(P, P);
+  const double h = 1e-6;
+  for (int i = 0; i < P; ++i) {
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(P);
+    d(i) = h;
+    NominalState xp = x, xm = x;
+    m.inject(&xp, d);
+    m.inject(&xm, -d);
+    NominalState yp, ym;
+    m.step(xp, dt, &imu, &yp, &F, &Q);
+    m.step(xm, dt, &imu, &ym, &F, &Q);
+    J.col(i) = (m.errorBetween(yp, y0) - m.errorBetween(ym, y0)) / (2 * h);
+  }
+  return J;
+}
+
+// The camera's error [dp, dtheta, dv, dw] between two camera views.
+Eigen::Matrix<double, 12, 1> cameraError(const PoseState& c, const PoseState& c0) {
+  Eigen::Matrix<double, 12, 1> e;
+  e << c.p - c0.p, logSO3(c0.q.toRotationMatrix().transpose() * c.q.toRotationMatrix()), c.v - c0.v, c.w - c0.w;
+  return e;
+}
+
+TEST(InertialModel, StepJacobianMatchesFiniteDifferences) {
+  const EskfSettings s = inertialSettings();
+  const auto m = makeMotionModel(s, sim::forwardCamera());
+  ASSERT_EQ(m->poseDim(), kInertialDim);
+  const NominalState x = someState();
+  for (double dt : {0.005, 0.1}) {
+    const ImuSample imu{1.0, Vec3(0.9, -0.3, 1.4), Vec3(0.8, 9.4, -0.6)};
+    NominalState y;
+    PoseMat F, Q;
+    m->step(x, dt, &imu, &y, &F, &Q);
+    const Eigen::MatrixXd Fn = numericStepJacobian(*m, x, dt, imu);
+    EXPECT_LT((Fn - Eigen::MatrixXd(F)).cwiseAbs().maxCoeff(), 1e-7) << "dt " << dt << "\n" << Fn - F;
+  }
+}
+
+TEST(InertialModel, CameraJacobianMatchesFiniteDifferences) {
+  const auto m = makeMotionModel(inertialSettings(), sim::forwardCamera());
+  const NominalState x = someState();
+  const PoseState c0 = m->camera(x);
+  const Eigen::MatrixXd T = m->cameraStateJacobian(x);
+  ASSERT_EQ(T.rows(), 12);
+  ASSERT_EQ(T.cols(), kInertialDim);
+  Eigen::MatrixXd Tn(12, kInertialDim);
+  const double h = 1e-6;
+  for (int i = 0; i < kInertialDim; ++i) {
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(kInertialDim);
+    d(i) = h;
+    NominalState xp = x, xm = x;
+    m->inject(&xp, d);
+    m->inject(&xm, -d);
+    Tn.col(i) = (cameraError(m->camera(xp), c0) - cameraError(m->camera(xm), c0)) / (2 * h);
+  }
+  EXPECT_LT((Tn - T).cwiseAbs().maxCoeff(), 1e-7) << "\n" << Tn - T;
+  // The camera pose follows the extrinsic: R_wc = R_wb R_bc, p_wc = p + R_wb p_bc.
+  const CameraExtrinsic e = sim::forwardCamera();
+  EXPECT_LT((c0.p - (x.p + x.q * e.p_imu_cam)).norm(), 1e-15);
+  // moveCameraTo is the inverse of camera().
+  NominalState x2 = x;
+  m->moveCameraTo(&x2, Vec3(1, 2, 3), quatExp(Vec3(0.1, 0.2, 0.3)));
+  EXPECT_LT((m->camera(x2).p - Vec3(1, 2, 3)).norm(), 1e-12);
+  EXPECT_LT(m->camera(x2).q.angularDistance(quatExp(Vec3(0.1, 0.2, 0.3))), 1e-12);
+}
+
+// The propagated covariance of 40 steps with white noise and bias walks
+// equals the spread of 3000 noisy propagations (sampling error of a variance
+// from 3000 samples: ~2.6 %; bound 10 %).
+TEST(InertialModel, ProcessNoiseMatchesMonteCarlo) {
+  EskfSettings s = inertialSettings();
+  s.accel_noise_density = 0.02;
+  s.gyro_noise_density = 0.002;
+  s.accel_random_walk = 0.01;
+  s.gyro_random_walk = 0.001;
+  const auto m = makeMotionModel(s, CameraExtrinsic());
+  const NominalState x0 = someState();
+  const double dt = 0.005;
+  const int steps = 40, runs = 3000;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0.0, 1.0);
+  auto rnd = [&] { return Vec3(g(rng), g(rng), g(rng)); };
+  // Nominal: the true samples; covariance from zero.
+  std::vector<ImuSample> truth(steps);
+  for (int k = 0; k < steps; ++k)
+    truth[k] = ImuSample{dt * (k + 1), Vec3(0.5, -0.2, 0.9) + 0.1 * k * Vec3(0.01, 0.02, 0), Vec3(0.3, 9.7, -0.4)};
+  NominalState xn = x0;
+  PoseMat C = PoseMat::Zero(kInertialDim, kInertialDim);
+  for (int k = 0; k < steps; ++k) {
+    NominalState y;
+    PoseMat F, Q;
+    m->step(xn, dt, &truth[k], &y, &F, &Q);
+    C = F * C * F.transpose() + Q;
+    xn = y;
+  }
+  // Monte Carlo: the same true motion read by a noisy IMU whose biases walk;
+  // the filter's state integrates the readings (its bias state held at the
+  // start value), so its error is the model's error.
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(kInertialDim, kInertialDim);
+  for (int r = 0; r < runs; ++r) {
+    NominalState xr = x0;
+    Vec3 bg = Vec3::Zero(), ba = Vec3::Zero();
+    for (int k = 0; k < steps; ++k) {
+      ImuSample noisy = truth[k];
+      noisy.gyro += bg + s.gyro_noise_density / std::sqrt(dt) * rnd();
+      noisy.accel += ba + s.accel_noise_density / std::sqrt(dt) * rnd();
+      NominalState y;
+      PoseMat F, Q;
+      m->step(xr, dt, &noisy, &y, &F, &Q);
+      xr = y;
+      bg += s.gyro_random_walk * std::sqrt(dt) * rnd();
+      ba += s.accel_random_walk * std::sqrt(dt) * rnd();
+    }
+    // The error of the nominal w.r.t. the noisy run, plus the bias error as
+    // the walk put it (the state's bias is the nominal's).
+    Eigen::VectorXd e = m->errorBetween(xr, xn);
+    e.segment<3>(kIdxBg) = -bg;
+    e.segment<3>(kIdxBa) = -ba;
+    S += e * e.transpose() / runs;
+  }
+  for (int i = 0; i < kIdxG; ++i)
+    EXPECT_NEAR(S(i, i), C(i, i), 0.1 * C(i, i)) << "state row " << i;
+}
+
+TEST(InertialAlignment, StillStartLevelsTheWorldAndTakesTheGyroBias) {
+  const EskfSettings s = inertialSettings();
+  const CameraExtrinsic e = sim::forwardCamera();
+  const auto m = makeMotionModel(s, e);
+  std::mt19937 rng(3);
+  sim::InertialTrajectory traj;
+  traj.rest = 10.0;  // still throughout the window
+  sim::ImuNoiseModel noise;
+  // A tilted body: rotate the truth about x by 0.2 rad.
+  const Eigen::Quaterniond tilt(Eigen::AngleAxisd(0.2, Vec3::UnitX()));
+  std::vector<ImuSample> w;
+  for (int k = 1; k <= 80; ++k) {
+    ImuSample m0 = sim::imuSample(traj, noise, 0.005 * k, 0.005, rng);
+    m0.accel = tilt.conjugate() * (m0.accel - noise.b_a) + noise.b_a;
+    w.push_back(m0);
+  }
+  InertialStart start;
+  ASSERT_EQ(alignInertialStart(w, *m, s, &start), Status::kOk);
+  EXPECT_TRUE(start.still);
+  EXPECT_NEAR(start.specific_force, 9.81, 0.05);
+  // World z is up: the body's mean specific force maps to +z.
+  Vec3 f = Vec3::Zero();
+  for (const ImuSample& x : w) f += x.accel / w.size();
+  EXPECT_LT((start.x.q * f.normalized() - Vec3::UnitZ()).norm(), 1e-9);
+  EXPECT_LT((start.x.g - Vec3(0, 0, -9.81)).norm(), 1e-12);
+  // Gyro bias: the mean rate, within 3 sigma of the truth.
+  for (int i = 0; i < 3; ++i)
+    EXPECT_LT(std::abs(start.x.b_g[i] - noise.b_g[i]), 3 * std::sqrt(start.C(kIdxBg + i, kIdxBg + i))) << i;
+  EXPECT_NEAR(std::sqrt(start.C(kIdxV, kIdxV)), s.static_sigma_velocity, 1e-12);
+  // The camera starts at the world origin.
+  EXPECT_LT(m->camera(start.x).p.norm(), 1e-12);
+
+  // Moving: no bias from the mean rate, the velocity loose.
+  traj.rest = 0.0;
+  w.clear();
+  for (int k = 1; k <= 200; ++k) w.push_back(sim::imuSample(traj, noise, 1.0 + 0.005 * k, 0.005, rng));
+  ASSERT_EQ(alignInertialStart(w, *m, s, &start), Status::kOk);
+  EXPECT_FALSE(start.still);
+  EXPECT_EQ(start.x.b_g, Vec3::Zero());
+  EXPECT_NEAR(std::sqrt(start.C(kIdxV, kIdxV)), s.initial_sigma_velocity, 1e-12);
+
+  // Free fall (no direction) and bad input are refused.
+  for (ImuSample& x : w) x.accel.setZero();
+  EXPECT_EQ(alignInertialStart(w, *m, s, &start), Status::kEmptyInput);
+  EXPECT_EQ(alignInertialStart({w[0]}, *m, s, &start), Status::kInvalidArgument);
+  w[1].gyro.x() = std::nan("");
+  EXPECT_EQ(alignInertialStart(w, *m, s, &start), Status::kNonFinite);
+}
+
+struct InertialRun {
+  double max_pos_err = 0, final_pos_err = 0, max_rot_err = 0;
+  Vec3 b_g, b_a, sigma_b_g, sigma_b_a;
+  int frames = 0, awaiting = 0;
+};
+
+// The filter on the analytic trajectory: 200 Hz IMU, 10 Hz stereo frames.
+InertialRun runInertial(unsigned seed, double duration, const sim::ImuNoiseModel& noise) {
+  EskfSettings s = inertialSettings();
+  s.max_landmarks = 300;
+  s.max_new_landmarks = 30;
+  s.max_update_landmarks = 60;
+  s.ransac_iterations = 200;  // and the IMU / vision agreement check with it
+  s.initial_sigma_accel_bias = 0.1;
+  std::mt19937 rng(seed);
+  const sim::StereoRig rig;
+  const sim::World world = sim::randomWorld(rng, 6000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
+  const sim::InertialTrajectory traj;
+  const CameraExtrinsic e = sim::forwardCamera();
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, kInertialDim), e);
+  EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  // The filter's world: gravity-aligned at the first camera position (the
+  // truth's body starts level, so the yaw agrees).
+  const Vec3 origin = sim::cameraOf(traj.at(0.0), e).p;
+  InertialRun r;
+  const double dt_imu = 0.005;
+  int k_imu = 1;
+  for (int k = 1; k * 0.1 <= duration; ++k) {
+    const double t = k * 0.1;
+    for (; k_imu * dt_imu <= t + 1e-9; ++k_imu)
+      EXPECT_EQ(f.addImu(sim::imuSample(traj, noise, k_imu * dt_imu, dt_imu, rng)), Status::kOk);
+    PoseState cam = sim::cameraOf(traj.at(t), e);
+    cam.p -= origin;
+    const StereoFrame frame = sim::makeFrame(world, cam, rig, t, 4, rng);
+    IterationReport rep;
+    const Status st = f.processFrame(frame, &rep);
+    if (st == Status::kAwaitingImu) {
+      ++r.awaiting;
+      continue;
+    }
+    EXPECT_EQ(st, Status::kOk) << toString(st) << " at " << t;
+    EXPECT_FALSE(rep.vision_led) << "IMU and vision agree on a static scene, at " << t;
+    ++r.frames;
+    const PoseState est = f.pose();
+    const double pe = (est.p - cam.p).norm();
+    r.max_pos_err = std::max(r.max_pos_err, pe);
+    r.final_pos_err = pe;
+    r.max_rot_err = std::max(r.max_rot_err, est.q.angularDistance(cam.q));
+  }
+  const PoseMat C = f.poseCovariance();
+  r.b_g = f.state().b_g;
+  r.b_a = f.state().b_a;
+  for (int i = 0; i < 3; ++i) {
+    r.sigma_b_g[i] = std::sqrt(C(kIdxBg + i, kIdxBg + i));
+    r.sigma_b_a[i] = std::sqrt(C(kIdxBa + i, kIdxBa + i));
+  }
+  return r;
+}
+
+TEST(InertialFilter, TracksTheTrajectoryAndTheBiasesConverge) {
+  const sim::ImuNoiseModel noise;
+  const InertialRun r = runInertial(11, 20.0, noise);
+  EXPECT_GE(r.awaiting, 1);  // the first frames wait for the alignment window
+  EXPECT_LE(r.awaiting, 4);
+  EXPECT_GT(r.frames, 190);
+  EXPECT_LT(r.max_pos_err, 0.05);
+  EXPECT_LT(r.max_rot_err, 0.02);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_LT(std::abs(r.b_g[i] - noise.b_g[i]), 3 * r.sigma_b_g[i]) << "gyro bias " << i;
+    EXPECT_LT(std::abs(r.b_a[i] - noise.b_a[i]), 3 * r.sigma_b_a[i]) << "accelerometer bias " << i;
+    // Converged: the uncertainty is well below the bias itself.
+    EXPECT_LT(r.sigma_b_g[i], 0.5 * std::abs(noise.b_g[i])) << i;
+  }
+  std::printf("inertial run: max pos err %.4f m, max rot err %.4f rad, |b_g err| %.5f rad/s, |b_a err| %.4f m/s^2\n",
+              r.max_pos_err, r.max_rot_err, (r.b_g - noise.b_g).norm(), (r.b_a - noise.b_a).norm());
+}
+
+// The device is still, the scanned scene moves (translation and rotation,
+// 0.5 Hz): the IMU says "no motion", the images say "the camera moves
+// relative to the surface". With the agreement check the filter reports the
+// camera relative to the surface and says the scene moves; without it
+// (disagreement_fraction 1) it believes the IMU and misses the motion.
+struct SceneMotionRun {
+  double rms_err = 0, motion_rms = 0;
+  int frames = 0, scene_moving = 0, vision_led = 0;
+};
+
+SceneMotionRun runMovingScene(double disagreement_fraction) {
+  EskfSettings s = inertialSettings();
+  s.max_landmarks = 300;
+  s.max_new_landmarks = 30;
+  s.max_update_landmarks = 60;
+  s.ransac_iterations = 200;
+  s.disagreement_fraction = disagreement_fraction;
+  std::mt19937 rng(21);
+  const sim::StereoRig rig;
+  const sim::World world = sim::randomWorld(rng, 6000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
+  sim::InertialTrajectory still;
+  still.rest = 1e9;
+  const sim::ImuNoiseModel noise;
+  const CameraExtrinsic e = sim::forwardCamera();
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, kInertialDim), e);
+  EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  const PoseState cam0 = sim::cameraOf(still.at(0.0), e);
+  SceneMotionRun r;
+  int k_imu = 1;
+  for (int k = 1; k <= 100; ++k) {
+    const double t = k * 0.1;
+    for (; k_imu * 0.005 <= t + 1e-9; ++k_imu)
+      EXPECT_EQ(f.addImu(sim::imuSample(still, noise, k_imu * 0.005, 0.005, rng)), Status::kOk);
+    // The scene (its frame = the filter's world at start) moves after 2 s:
+    // T_world_scene(t); the camera in the scene frame is its inverse applied
+    // to the still camera.
+    const double a = t > 2.0 ? std::sin(M_PI * (t - 2.0)) : 0.0;
+    const Eigen::Quaterniond q_ws = quatExp(Vec3(0.0, 0.0, 0.05 * a));
+    const Vec3 p_ws(0.0, 0.25 * a, 0.1 * a);
+    PoseState cam;  // the camera in the scene frame, relative to its start
+    cam.q = q_ws.conjugate() * cam0.q;
+    cam.p = q_ws.conjugate() * (cam0.p - p_ws) - cam0.p;
+    PoseState cam_scene = cam;
+    cam_scene.p += cam0.p;
+    // Landmarks are fixed in the scene frame: measure them from the camera's
+    // pose in that frame (the world of randomWorld is the scene frame).
+    const StereoFrame frame = sim::makeFrame(world, cam_scene, rig, t, 4, rng);
+    IterationReport rep;
+    const Status st = f.processFrame(frame, &rep);
+    if (st == Status::kAwaitingImu) continue;
+    EXPECT_EQ(st, Status::kOk) << toString(st) << " at " << t;
+    if (t <= 2.0) continue;
+    ++r.frames;
+    r.scene_moving += rep.scene_moving;
+    r.vision_led += rep.vision_led;
+    r.rms_err += (f.pose().p - cam.p).squaredNorm();
+    r.motion_rms += cam.p.squaredNorm();
+  }
+  r.rms_err = std::sqrt(r.rms_err / r.frames);
+  r.motion_rms = std::sqrt(r.motion_rms / r.frames);
+  return r;
+}
+
+TEST(InertialFilter, FollowsTheSurfaceWhenTheSceneMovesAndTheDeviceIsStill) {
+  const SceneMotionRun on = runMovingScene(0.5), off = runMovingScene(1.0);
+  std::printf("moving scene: camera motion rms %.3f m; error with the check %.4f m (%d/%d frames scene moving), "
+              "without %.4f m\n",
+              on.motion_rms, on.rms_err, on.scene_moving, on.frames, off.rms_err);
+  EXPECT_GT(on.motion_rms, 0.1);
+  EXPECT_LT(on.rms_err, 0.1 * on.motion_rms);
+  EXPECT_GT(on.scene_moving, on.frames / 2);
+  EXPECT_EQ(off.vision_led, 0);
+  EXPECT_GT(off.rms_err, 2.0 * on.rms_err);
+}
+
+// Bad IMU input never changes the state: non-finite samples, samples before
+// the filter time, and IMU samples to a model without IMU.
+TEST(InertialFilter, BadImuInputLeavesTheStateUnchanged) {
+  const EskfSettings s = inertialSettings();
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, kInertialDim), sim::forwardCamera());
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  EXPECT_TRUE(f.awaitingAlignment());
+  StereoFrame fr;
+  fr.stamp = 0.05;
+  EXPECT_EQ(f.processFrame(fr), Status::kAwaitingImu);
+  EXPECT_EQ(f.predictTo(0.05), Status::kAwaitingImu);
+  std::mt19937 rng(1);
+  const sim::InertialTrajectory traj;
+  const sim::ImuNoiseModel noise;
+  double t = 0.0;
+  while (f.awaitingAlignment()) {
+    t += 0.005;
+    ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, t, 0.005, rng)), Status::kOk);
+  }
+  const NominalState x = f.state();
+  const PoseMat C = f.poseCovariance();
+  const double nan = std::nan("");
+  EXPECT_EQ(f.addImu(ImuSample{t + 0.005, Vec3(nan, 0, 0), Vec3(0, 0, 9.81)}), Status::kNonFinite);
+  EXPECT_EQ(f.addImu(ImuSample{t + 0.005, Vec3::Zero(), Vec3(0, nan, 9.81)}), Status::kNonFinite);
+  EXPECT_EQ(f.addImu(ImuSample{nan, Vec3::Zero(), Vec3(0, 0, 9.81)}), Status::kNonFinite);
+  EXPECT_EQ(f.addImu(ImuSample{t - 0.001, Vec3::Zero(), Vec3(0, 0, 9.81)}), Status::kInvalidArgument);
+  EXPECT_EQ(f.time(), t);
+  EXPECT_EQ(f.state().p, x.p);
+  EXPECT_EQ(f.state().v, x.v);
+  EXPECT_EQ(f.state().b_g, x.b_g);
+  EXPECT_EQ((f.poseCovariance() - C).norm(), 0.0);
+  // A bad extrinsic is refused too.
+  CameraExtrinsic bad;
+  bad.R_imu_cam = 2.0 * Mat3::Identity();
+  EXPECT_EQ(f.setCameraExtrinsic(bad), Status::kInvalidArgument);
+  bad.p_imu_cam.x() = nan;
+  EXPECT_EQ(f.setCameraExtrinsic(bad), Status::kNonFinite);
+}
+
+}  // namespace
+}  // namespace hapi_eskf
