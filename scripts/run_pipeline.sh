@@ -4,12 +4,21 @@
 # prints what the run measured:
 #   * ATE: RMSE of the estimated camera positions after a rigid alignment to
 #     the ground truth, in metres and in % of the distance travelled;
-#   * map error: RMS distance of the landmark map to the true sphere (after
-#     the same alignment);
+#   * map error: RMS distance of the landmark map to the true surfaces (after
+#     the same alignment), when the bag states its geometry;
+#   * the further metrics of tools/eval/run_analysis.py (Sim(3) ATE, rotation
+#     error, RPE over 1 s, NEES, velocity error) and PNG plots next to the
+#     report (tools/eval/plots.py: trajectory.png, error_over_time.png, nees.png);
 #   * per-stage timing of the front end and the back end, from /diagnostics.
 #
-#   scripts/run_pipeline.sh BAG          (after `source <ws>/devel/setup.bash`,
+#   scripts/run_pipeline.sh BAG [ARG:=VALUE ...]
+#                                        (after `source <ws>/devel/setup.bash`,
 #                                         or with HAPI_WS pointing at the workspace)
+#
+# ARG:=VALUE pairs go to launch/replay.launch (e.g. motion_model:=inertial once
+# the launch file declares it); an ARG it does not declare is refused.
+# HAPI_SUMMARY_ARGS are passed to tools/eval/pipeline_summary.py (e.g.
+# "--map-error if-known" for a recording without known geometry).
 #
 # A private roscore on a free port (ROS_HOME in the workspace) so it never
 # touches a master the user is running. Results land in $HAPI_RUN_DIR
@@ -25,9 +34,17 @@ unset PYTHONPATH PYTHONHOME VIRTUAL_ENV || true
 
 die() { echo "[pipeline] ERROR: $*" >&2; exit 1; }
 
-[ $# -ge 1 ] || die "usage: $0 BAG"
+[ $# -ge 1 ] || die "usage: $0 BAG [ARG:=VALUE ...]"
 BAG="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
 [ -s "$BAG" ] || die "bag '$1' does not exist or is empty"
+shift
+LAUNCH_ARGS=()
+for a in "$@"; do
+  [[ "$a" =~ ^([A-Za-z_][A-Za-z0-9_]*):=(.*)$ ]] || die "'$a' is not ARG:=VALUE"
+  grep -qE "<arg[[:space:]]+name=\"${BASH_REMATCH[1]}\"" "$REPO/launch/replay.launch" \
+    || die "launch/replay.launch declares no arg '${BASH_REMATCH[1]}'"
+  LAUNCH_ARGS+=("$a")
+done
 
 if ! rospack find hapi_slam >/dev/null 2>&1; then
   [ -f "$WS/devel/setup.bash" ] || die "no built workspace at $WS (run scripts/setup.sh)"
@@ -61,7 +78,8 @@ mkdir -p "$RUN_DIR"
 REPORT="$RUN_DIR/report.yaml"
 DIAG="$RUN_DIR/diagnostics.bag"
 LOG="$RUN_DIR/pipeline.log"
-rm -f "$REPORT" "$DIAG" "$DIAG.active"
+rm -f "$REPORT" "$DIAG" "$DIAG.active" "$RUN_DIR"/{trajectory,error_over_time,nees}.png \
+  "$RUN_DIR"/{estimate,ground_truth}.tum "$RUN_DIR/estimate_covariance.txt"
 : >"$LOG"
 
 export ROS_HOME="${ROS_HOME:-$WS/ros_home}"
@@ -114,7 +132,8 @@ stop_launch() {
 trap stop_launch INT TERM
 timeout --signal=INT --kill-after=30 "$LIMIT" \
   roslaunch --wait hapi_slam replay.launch bag:="$BAG" evaluate:=true eval_output:="$REPORT" \
-    record_diagnostics:="$DIAG" rviz:=false output:=log ${HAPI_REPLAY_ARGS:-} > >(trap "" INT; exec tee "$LOG") 2>&1 &
+    record_diagnostics:="$DIAG" rviz:=false output:=log ${HAPI_REPLAY_ARGS:-} "${LAUNCH_ARGS[@]}" \
+    > >(trap "" INT; exec tee "$LOG") 2>&1 &
 LAUNCH_PID=$!
 # Watchdog: a node that dies (e.g. a nodelet rejecting its parameters at
 # start-up) would leave the evaluator waiting for odometry until its wall
@@ -140,7 +159,8 @@ trap - INT TERM
 [ -f "$DIAG" ] || echo "[pipeline] WARNING: no diagnostics bag ($DIAG)" >&2
 
 set +e
-/usr/bin/python3 "$REPO/tools/eval/pipeline_summary.py" "$REPORT" "$DIAG"
+# shellcheck disable=SC2086  # HAPI_SUMMARY_ARGS is a list of options
+/usr/bin/python3 "$REPO/tools/eval/pipeline_summary.py" "$REPORT" "$DIAG" ${HAPI_SUMMARY_ARGS:-}
 src=$?
 set -e
 echo "[pipeline] report: $REPORT, diagnostics: $DIAG, log: $LOG, node logs: $ROS_HOME/log"

@@ -36,8 +36,8 @@ std::string readFile(const std::string& path) {
   return ss.str();
 }
 
-const std::vector<std::string> kPackages = {"hapi_slam", "hapi_msgs", "hapi_nodelet_kit", "hapi_sim", "hapi_eskf",
-                                            "hapi_frontend"};
+const std::vector<std::string> kPackages = {"hapi_slam", "hapi_msgs",    "hapi_nodelet_kit", "hapi_sim",
+                                            "hapi_dataset", "hapi_eskf", "hapi_frontend"};
 
 }  // namespace
 

@@ -105,6 +105,24 @@ class PipelineSummaryTest(unittest.TestCase):
         self.assertEqual(rc, 1, out)  # missing wins over failed
         self.assertIn("MISSING: map error (no map received)", out)
 
+    def test_real_recording_without_geometry(self):
+        # A data set with no known scene: the map error is not scored with
+        # --map-error if-known, still missing without it.
+        no_map = {k: v for k, v in GOOD.items() if not k.startswith("map_rms") and "sphere" not in k}
+        rc, out = self.run_summary(no_map, self.diag, "--map-error", "if-known")
+        self.assertEqual(rc, 0, out)
+        self.assertIn("scene geometry unknown", out)
+        rc, out = self.run_summary(no_map, self.diag)
+        self.assertEqual(rc, 1, out)
+        # The further metrics are printed when the report has them.
+        rich = dict(GOOD, ate_sim3_rmse_m=0.009, sim3_scale=1.01, rotation_rmse_deg=0.5, rotation_max_deg=1.0,
+                    nees_position={"mean": 3.1, "mean_bounds_95": [2.8, 3.2], "fraction_in_95_band": 0.94,
+                                   "samples": 150})
+        rc, out = self.run_summary(rich, self.diag)
+        self.assertEqual(rc, 0, out)
+        self.assertIn("scale 1.0100", out)
+        self.assertIn("position NEES", out)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -1,12 +1,17 @@
 #!/usr/bin/python3
 """Live evaluation of a pipeline run against the globe bag's ground truth.
 
-Collects the back end's odometry, the ground-truth camera pose and the last
-landmark map while a bag plays; when the odometry has been silent for
+Collects the back end's odometry (pose, covariance, twist), the ground-truth
+camera pose (and twist, /ground_truth/odometry, when the bag has it), the
+scene geometry (/ground_truth/scene, or the globe bags' /globe/info) and the
+last landmark map while a bag plays; when the odometry has been silent for
 ~idle_timeout wall seconds (the bag ended) or ~max_wall_time passed, it prints
-the absolute trajectory error (after rigid alignment, see evaluation.py), the
-map's RMS distance to the true sphere, the rates, and the per-stage timings
-the nodelets report in /diagnostics. Writes the same as YAML to ~output.
+the metrics of run_analysis.py (ATE SE(3) and Sim(3), rotation error, RPE
+over 1 s, NEES, velocity error, map error to the nearest true surface), the
+rates, and the per-stage timings the nodelets report in /diagnostics. Writes
+the same as YAML to ~output and, next to it, the trajectories
+(estimate.tum, ground_truth.tum, estimate_covariance.txt: the inputs of the
+offline tools/eval/evaluate.py) and the PNG plots (plots.py).
 
 With ~test:=true it is a rostest test node: it fails when a metric is outside
 the bounds given as parameters.
@@ -28,16 +33,21 @@ from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import String
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import evaluation as ev  # noqa: E402
+import plots  # noqa: E402
+import run_analysis  # noqa: E402
+import scene_geometry  # noqa: E402
+import trajectory_io as tio  # noqa: E402
 
 
 class RunCollector:
     def __init__(self):
         self.lock = threading.Lock()
-        self.est = []   # (stamp, p)
-        self.gt = []    # (stamp, p)
+        self.est = []   # (stamp, p, q, 6x6 pose covariance, twist (linear, angular))
+        self.gt = []    # (stamp, p, q)
+        self.gt_twist = []  # (stamp, twist)
         self.map_points = None
         self.globe = None
+        self.scene_text = None
         self.diag = {}
         self.last_odom_wall = None
         self.first_odom_wall = None
@@ -46,12 +56,18 @@ class RunCollector:
         rospy.Subscriber(rospy.get_param("~gt_topic", "/ground_truth/pose"), PoseStamped, self.on_gt, queue_size=100)
         rospy.Subscriber(rospy.get_param("~map_topic", "/eskf/map"), PointCloud2, self.on_map, queue_size=2)
         rospy.Subscriber(rospy.get_param("~globe_topic", "/globe/info"), String, self.on_globe, queue_size=2)
+        rospy.Subscriber(rospy.get_param("~scene_topic", "/ground_truth/scene"), String, self.on_scene, queue_size=2)
+        rospy.Subscriber(rospy.get_param("~gt_odom_topic", "/ground_truth/odometry"), Odometry, self.on_gt_odom,
+                         queue_size=400)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=20)
 
     def on_odom(self, msg):
-        p = msg.pose.pose.position
+        p, o = msg.pose.pose.position, msg.pose.pose.orientation
+        v, w = msg.twist.twist.linear, msg.twist.twist.angular
+        sample = (msg.header.stamp.to_sec(), np.array([p.x, p.y, p.z]), np.array([o.x, o.y, o.z, o.w]),
+                  np.array(msg.pose.covariance).reshape(6, 6), np.array([v.x, v.y, v.z, w.x, w.y, w.z]))
         with self.lock:
-            self.est.append((msg.header.stamp.to_sec(), np.array([p.x, p.y, p.z])))
+            self.est.append(sample)
             now = time.time()
             self.last_odom_wall = now
             if self.first_odom_wall is None:
@@ -59,9 +75,18 @@ class RunCollector:
             self.odom_count += 1
 
     def on_gt(self, msg):
-        p = msg.pose.position
+        p, o = msg.pose.position, msg.pose.orientation
         with self.lock:
-            self.gt.append((msg.header.stamp.to_sec(), np.array([p.x, p.y, p.z])))
+            self.gt.append((msg.header.stamp.to_sec(), np.array([p.x, p.y, p.z]), np.array([o.x, o.y, o.z, o.w])))
+
+    def on_gt_odom(self, msg):
+        v, w = msg.twist.twist.linear, msg.twist.twist.angular
+        with self.lock:
+            self.gt_twist.append((msg.header.stamp.to_sec(), np.array([v.x, v.y, v.z, w.x, w.y, w.z])))
+
+    def on_scene(self, msg):
+        with self.lock:
+            self.scene_text = msg.data
 
     def on_map(self, msg):
         pts = np.array([[x, y, z] for x, y, z in point_cloud2.read_points(msg, ("x", "y", "z"), skip_nans=True)])
@@ -87,47 +112,81 @@ class RunCollector:
             time.sleep(0.2)
         return False
 
-    def globe_geometry(self):
+    def scene(self):
+        """(name, surfaces) of the known geometry, None when unknown (a real recording)."""
         if rospy.has_param("~sphere_radius"):
-            return rospy.get_param("~sphere_centre", [0.0, 0.0, 0.0]), float(rospy.get_param("~sphere_radius"))
-        if self.globe is not None:
-            return self.globe["centre"], float(self.globe["radius"])
-        return None, None
+            return "globe", [scene_geometry.Sphere(rospy.get_param("~sphere_centre", [0.0, 0.0, 0.0]),
+                                                   float(rospy.get_param("~sphere_radius")))]
+        with self.lock:
+            scene_text, globe = self.scene_text, self.globe
+        try:
+            if scene_text is not None:
+                return scene_geometry.parse_scene(scene_text)
+            if globe is not None:
+                return "globe", [scene_geometry.Sphere(globe["centre"], globe["radius"])]
+        except (ValueError, KeyError, TypeError) as e:
+            rospy.logerr("scene description unusable: %s", e)
+        return None
+
+    def trajectories(self):
+        with self.lock:
+            est, gt, gt_twist = list(self.est), list(self.gt), list(self.gt_twist)
+        e = {"t": np.array([s[0] for s in est]), "p": np.array([s[1] for s in est]).reshape(-1, 3),
+             "q": np.array([s[2] for s in est]).reshape(-1, 4), "cov": np.array([s[3] for s in est]).reshape(-1, 6, 6),
+             "twist": np.array([s[4] for s in est]).reshape(-1, 6)}
+        # An all-zero covariance is "not given" (a filter without one): no NEES.
+        if not np.any(e["cov"]):
+            e["cov"] = None
+        g = {"t": np.array([s[0] for s in gt]), "p": np.array([s[1] for s in gt]).reshape(-1, 3),
+             "q": np.array([s[2] for s in gt]).reshape(-1, 4)}
+        gtw = {"t": np.array([s[0] for s in gt_twist]), "twist": np.array([s[1] for s in gt_twist]).reshape(-1, 6)}
+        return e, g, gtw
 
     def results(self):
         with self.lock:
-            est, gt, map_points = list(self.est), list(self.gt), self.map_points
+            map_points = self.map_points
             odom_count, diag = self.odom_count, dict(self.diag)
             wall = (self.last_odom_wall - self.first_odom_wall) if self.odom_count > 1 else 0.0
-        res = {"odom_messages": odom_count, "gt_messages": len(gt)}
-        if odom_count > 1 and est[-1][0] > est[0][0]:
-            res["odom_rate_sim_hz"] = (odom_count - 1) / (est[-1][0] - est[0][0])
+        est, gt, gt_twist = self.trajectories()
+        res = {"odom_messages": odom_count, "gt_messages": len(gt["t"])}
+        if odom_count > 1 and est["t"][-1] > est["t"][0]:
+            res["odom_rate_sim_hz"] = (odom_count - 1) / (est["t"][-1] - est["t"][0])
         if wall > 0:
             res["odom_rate_wall_hz"] = (odom_count - 1) / wall
-        pairs = ev.associate([s for s, _ in est], [s for s, _ in gt], max_dt=0.006)
-        if len(pairs) >= 3:
-            e = np.array([est[i][1] for i, _ in pairs])
-            g = np.array([gt[j][1] for _, j in pairs])
-            ate = ev.trajectory_error(e, g)
-            dist = ev.path_length(g)
-            res.update({"poses_compared": len(pairs), "ate_rmse_m": ate["rmse"], "ate_max_m": ate["max"],
-                        "distance_travelled_m": dist,
-                        "ate_fraction_of_distance": ate["rmse"] / dist if dist > 0 else float("inf")})
-            centre, radius = self.globe_geometry()
-            if map_points is not None and len(map_points) > 0:
-                res["map_points"] = int(len(map_points))
-                if radius is not None:
-                    rms, med = ev.sphere_error(map_points, ate["R"], ate["t"], centre, radius)
-                    res["map_rms_to_sphere_m"] = rms
-                    res["map_median_abs_to_sphere_m"] = med
+        metrics, series = run_analysis.analyse(est, gt, max_dt=0.006, scene=self.scene(), map_points=map_points,
+                                               gt_twist=gt_twist if len(gt_twist["t"]) else None)
+        res.update(metrics)
+        if "map_points" not in res and map_points is not None and len(map_points) > 0:
+            res["map_points"] = int(len(map_points))
         res["diagnostics"] = {k: v for k, v in diag.items() if "hapi" in k.lower() or "eskf" in k.lower()
                               or "frontend" in k.lower()}
-        return res
+        return res, series, est, gt
 
 
-def report(res):
+def write_run_files(out_dir, res, series, est, gt):
+    """Trajectories and plots next to the report (the offline evaluator's inputs)."""
+    if len(est["t"]):
+        tio.write_tum(os.path.join(out_dir, "estimate.tum"), est["t"], est["p"], est["q"])
+        if est["cov"] is not None:
+            tio.write_covariances(os.path.join(out_dir, "estimate_covariance.txt"), est["t"], est["cov"])
+    if len(gt["t"]):
+        tio.write_tum(os.path.join(out_dir, "ground_truth.tum"), gt["t"], gt["p"], gt["q"])
+    reason = plots.available()
+    if reason is not None:
+        res["plots_missing"] = reason
+        return
+    try:
+        res["plots"] = [os.path.basename(p) for p in plots.write_plots(series, out_dir)]
+    except Exception as e:  # a plot must never cost the report
+        res["plots_missing"] = f"plotting failed: {e}"
+
+
+def report(collected):
+    res, series, est, gt = collected
     out = rospy.get_param("~output", "")
-    text = yaml.safe_dump(res, default_flow_style=False, sort_keys=True)
+    if out:
+        write_run_files(os.path.dirname(os.path.abspath(out)), res, series, est, gt)
+    text = yaml.safe_dump(run_analysis.to_plain(res), default_flow_style=False, sort_keys=True)
     print("==== HAPI run evaluation ====\n" + text + "=============================", flush=True)
     if out:
         with open(out, "w") as f:
@@ -140,8 +199,9 @@ class PipelineAccuracyTest(unittest.TestCase):
     def test_pipeline_accuracy(self):
         c = PipelineAccuracyTest.collector
         ended = c.wait_for_end(rospy.get_param("~idle_timeout", 5.0), rospy.get_param("~max_wall_time", 300.0))
-        res = c.results()
-        report(res)
+        collected = c.results()
+        report(collected)
+        res = collected[0]
         self.assertTrue(ended, "odometry never went quiet (bag did not end?)")
         self.assertGreater(res["odom_messages"], 0, "no odometry")
         self.assertIn("ate_rmse_m", res, "no odometry matched the ground truth")

@@ -27,24 +27,7 @@ from geometry_msgs.msg import PoseStamped, TransformStamped
 from nav_msgs.msg import Odometry, Path
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from evaluation import quat_to_rot  # noqa: E402  (installed next to this node)
-
-
-def rot_to_quat(r):
-    """(x, y, z, w) of a rotation matrix (Shepperd's method, stable branch)."""
-    tr = np.trace(r)
-    if tr > 0:
-        s = 2.0 * np.sqrt(tr + 1.0)
-        return ((r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, 0.25 * s)
-    i = int(np.argmax(np.diag(r)))
-    j, k = (i + 1) % 3, (i + 2) % 3
-    s = 2.0 * np.sqrt(1.0 + r[i, i] - r[j, j] - r[k, k])
-    q = [0.0, 0.0, 0.0, 0.0]
-    q[i] = 0.25 * s
-    q[j] = (r[j, i] + r[i, j]) / s
-    q[k] = (r[k, i] + r[i, k]) / s
-    q[3] = (r[k, j] - r[j, k]) / s
-    return tuple(q)
+from evaluation import quat_to_rot, rot_to_quat  # noqa: E402  (installed next to this node)
 
 
 def pose_to_matrix(pose):

@@ -1,0 +1,295 @@
+// asl_to_bag: converts an ASL/EuRoC recording (mav0/) into a bag with the
+// topics and frames of the simulator's bags, so that launch/replay.launch and
+// the evaluator run on it unchanged.
+//
+//   asl_to_bag --asl DIR --output BAG [--start S] [--duration S] [--rate-divisor N]
+//
+// DIR is mav0/ or its parent. --start skips S seconds after the first stereo
+// frame, --duration keeps S seconds (default: all), --rate-divisor N keeps
+// every N-th stereo frame (the IMU and the ground truth are kept whole).
+//
+// Topics: /stereo/{left,right}/image_raw (mono8, unrectified) and
+// camera_info (K, plumb_bob D, R, P of a stereo rectification,
+// stereo_calibration.hpp), /imu/data (IMU frame "imu_link"), /tf_static
+// (stereo_left_optical_frame -> stereo_right_optical_frame and -> imu_link),
+// and with ground truth /ground_truth/pose, /ground_truth/odometry (twist in
+// the camera frame) and /tf world -> ground_truth/stereo_left_optical_frame;
+// mav0/scene.yaml, when present, latched on /ground_truth/scene
+// (std_msgs/String). Frames: docs/DESIGN.md "Dataset calibration".
+//
+// Determinism: stamps are the dataset's integer nanoseconds, messages are
+// written in (stamp, kind) order and rosbag's writer adds no wall time, so the
+// same input and options give a byte-identical bag.
+#include <cv_bridge/cv_bridge.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Imu.h>
+#include <std_msgs/String.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "hapi_dataset/asl_recording.hpp"
+#include "hapi_dataset/rig_frames.hpp"
+#include "hapi_dataset/stereo_calibration.hpp"
+
+namespace {
+
+using namespace hapi_dataset;
+
+constexpr const char* kWorld = "world";
+constexpr const char* kLeft = "stereo_left_optical_frame";
+constexpr const char* kRight = "stereo_right_optical_frame";
+constexpr const char* kImu = "imu_link";
+constexpr const char* kGt = "ground_truth/stereo_left_optical_frame";
+
+struct Options {
+  std::string asl, output;
+  double start = 0.0, duration = -1.0;
+  long rate_divisor = 1;
+};
+
+[[noreturn]] void usage(const std::string& err) {
+  std::cerr << "asl_to_bag: " << err << "\n"
+            << "usage: asl_to_bag --asl DIR --output BAG [--start S] [--duration S] [--rate-divisor N]\n";
+  std::exit(2);
+}
+
+double number(const std::string& key, const std::string& v) {
+  char* end = nullptr;
+  const double d = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || !std::isfinite(d)) usage("invalid number for " + key + ": '" + v + "'");
+  return d;
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if (k == "-h" || k == "--help") usage("help");
+    if (i + 1 >= argc) usage("missing value for " + k);
+    const std::string v = argv[++i];
+    if (k == "--asl") o.asl = v;
+    else if (k == "--output") o.output = v;
+    else if (k == "--start") o.start = number(k, v);
+    else if (k == "--duration") o.duration = number(k, v);
+    else if (k == "--rate-divisor") {
+      const double n = number(k, v);
+      if (n < 1 || n > 1000 || n != std::floor(n)) usage("--rate-divisor must be an integer in [1, 1000]");
+      o.rate_divisor = static_cast<long>(n);
+    } else usage("unknown option " + k);
+  }
+  if (o.asl.empty() || o.output.empty()) usage("--asl and --output are required");
+  if (o.start < 0) usage("--start must be >= 0");
+  if (o.duration == 0 || o.duration < -1) usage("--duration must be > 0");
+  return o;
+}
+
+ros::Time stamp(int64_t ns) {
+  const SecNsec s = toSecNsec(ns);
+  return ros::Time(s.sec, s.nsec);
+}
+
+sensor_msgs::CameraInfo toMsg(const CameraInfoData& d, const std_msgs::Header& h) {
+  sensor_msgs::CameraInfo m;
+  m.header = h;
+  m.width = d.width;
+  m.height = d.height;
+  m.distortion_model = d.distortion_model;
+  m.D = d.D;
+  std::copy(d.K.begin(), d.K.end(), m.K.begin());
+  std::copy(d.R.begin(), d.R.end(), m.R.begin());
+  std::copy(d.P.begin(), d.P.end(), m.P.begin());
+  return m;
+}
+
+sensor_msgs::ImagePtr loadMono(const std::string& png, const std_msgs::Header& h, const CameraSensor& cam) {
+  const cv::Mat img = cv::imread(png, cv::IMREAD_GRAYSCALE);
+  if (img.empty()) throw std::runtime_error("cannot read image " + png);
+  if (img.cols != cam.width || img.rows != cam.height)
+    throw std::runtime_error(png + ": " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
+                             " differs from sensor.yaml's resolution");
+  return cv_bridge::CvImage(h, "mono8", img).toImageMsg();
+}
+
+geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
+  geometry_msgs::Pose p;
+  const Eigen::Quaterniond q(T.linear());
+  p.position.x = T.translation().x();
+  p.position.y = T.translation().y();
+  p.position.z = T.translation().z();
+  p.orientation.x = q.x();
+  p.orientation.y = q.y();
+  p.orientation.z = q.z();
+  p.orientation.w = q.w();
+  return p;
+}
+
+geometry_msgs::TransformStamped toTransform(const ros::Time& t, const std::string& parent, const std::string& child,
+                                            const Eigen::Isometry3d& T) {
+  geometry_msgs::TransformStamped tf;
+  tf.header.stamp = t;
+  tf.header.frame_id = parent;
+  tf.child_frame_id = child;
+  const geometry_msgs::Pose p = toPose(T);
+  tf.transform.translation.x = p.position.x;
+  tf.transform.translation.y = p.position.y;
+  tf.transform.translation.z = p.position.z;
+  tf.transform.rotation = p.orientation;
+  return tf;
+}
+
+// Latched connections need an explicit connection header so that
+// `rosbag play` re-advertises them latched.
+template <class M>
+boost::shared_ptr<ros::M_string> latchedHeader() {
+  auto h = boost::make_shared<ros::M_string>();
+  (*h)["type"] = ros::message_traits::datatype<M>();
+  (*h)["md5sum"] = ros::message_traits::md5sum<M>();
+  (*h)["message_definition"] = ros::message_traits::definition<M>();
+  (*h)["callerid"] = "/asl_to_bag";
+  (*h)["latching"] = "1";
+  return h;
+}
+
+// Writing order at equal stamps: IMU first (a filter predicts up to the
+// image time), then ground truth, then the stereo frame.
+enum Kind { kImuSample = 0, kTruth = 1, kFrame = 2 };
+using Event = std::tuple<int64_t, int, size_t>;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options opt = parse(argc, argv);
+  AslRecording rec;
+  StereoCalibration calib;
+  try {
+    rec = readAslRecording(opt.asl);
+    calib = rectifyStereo(rec.cam0, rec.cam1);
+  } catch (const std::exception& e) {
+    std::cerr << "asl_to_bag: " << e.what() << "\n";
+    return 1;
+  }
+  const int64_t t_begin = rec.frames.front().stamp_ns + std::llround(opt.start * 1e9);
+  const int64_t t_end = opt.duration < 0 ? INT64_MAX : t_begin + std::llround(opt.duration * 1e9);
+  const auto inside = [&](int64_t t) { return t >= t_begin && t <= t_end; };
+
+  std::vector<Event> events;
+  long kept = 0;
+  for (size_t i = 0; i < rec.frames.size(); ++i)
+    if (inside(rec.frames[i].stamp_ns) && kept++ % opt.rate_divisor == 0)
+      events.emplace_back(rec.frames[i].stamp_ns, kFrame, i);
+  if (events.empty()) {
+    std::cerr << "asl_to_bag: no stereo frame in the selected window\n";
+    return 1;
+  }
+  for (size_t i = 0; i < rec.imu.size(); ++i)
+    if (inside(rec.imu[i].stamp_ns)) events.emplace_back(rec.imu[i].stamp_ns, kImuSample, i);
+  if (rec.ground_truth.size() >= 2)
+    for (size_t i = 0; i < rec.ground_truth.size(); ++i)
+      if (inside(rec.ground_truth[i].stamp_ns)) events.emplace_back(rec.ground_truth[i].stamp_ns, kTruth, i);
+  std::sort(events.begin(), events.end());
+
+  rosbag::Bag bag;
+  try {
+    bag.open(opt.output, rosbag::bagmode::Write);
+  } catch (const rosbag::BagException& e) {
+    std::cerr << "asl_to_bag: cannot open '" << opt.output << "' for writing: " << e.what() << "\n";
+    return 1;
+  }
+  const ros::Time t0 = stamp(std::get<0>(events.front()));
+  {
+    tf2_msgs::TFMessage st;
+    st.transforms.push_back(toTransform(t0, kLeft, kRight, calib.T_left_right));
+    st.transforms.push_back(toTransform(t0, kLeft, kImu, imuInCamera(rec.cam0, rec.imu0)));
+    bag.write("/tf_static", t0, st, latchedHeader<tf2_msgs::TFMessage>());
+  }
+  if (!rec.scene_yaml.empty()) {
+    std_msgs::String scene;
+    scene.data = rec.scene_yaml;
+    bag.write("/ground_truth/scene", t0, scene, latchedHeader<std_msgs::String>());
+  }
+  std::cerr << "[asl_to_bag] " << rec.mav0 << " -> " << opt.output << ": baseline " << calib.baseline << " m, "
+            << events.size() << " messages to write\n";
+
+  const double gyro_var = std::pow(rec.imu0.gyroscope_noise_density, 2) * rec.imu0.rate_hz;
+  const double accel_var = std::pow(rec.imu0.accelerometer_noise_density, 2) * rec.imu0.rate_hz;
+  uint32_t seq = 0;
+  try {
+    for (const auto& [t_ns, kind, i] : events) {
+      const ros::Time t = stamp(t_ns);
+      if (kind == kImuSample) {
+        const ImuSample& s = rec.imu[i];
+        sensor_msgs::Imu m;
+        m.header.stamp = t;
+        m.header.frame_id = kImu;
+        m.orientation_covariance[0] = -1.0;  // no orientation estimate (REP-145)
+        m.angular_velocity.x = s.angular_velocity.x();
+        m.angular_velocity.y = s.angular_velocity.y();
+        m.angular_velocity.z = s.angular_velocity.z();
+        m.linear_acceleration.x = s.linear_acceleration.x();
+        m.linear_acceleration.y = s.linear_acceleration.y();
+        m.linear_acceleration.z = s.linear_acceleration.z();
+        // Discrete white-noise variance = density^2 * rate; 0 (unknown) when
+        // sensor.yaml states no density.
+        for (int k = 0; k < 3; ++k) {
+          m.angular_velocity_covariance[4 * k] = gyro_var;
+          m.linear_acceleration_covariance[4 * k] = accel_var;
+        }
+        bag.write("/imu/data", t, m);
+      } else if (kind == kTruth) {
+        const Eigen::Isometry3d T_W_cam = cameraInWorld(rec.ground_truth[i].T_W_B, rec.cam0);
+        geometry_msgs::PoseStamped gt;
+        gt.header.stamp = t;
+        gt.header.frame_id = kWorld;
+        gt.pose = toPose(T_W_cam);
+        bag.write("/ground_truth/pose", t, gt);
+        nav_msgs::Odometry odom;
+        odom.header = gt.header;
+        odom.child_frame_id = kGt;
+        odom.pose.pose = gt.pose;
+        const CameraTwist tw = cameraTwistAt(rec.ground_truth, i, rec.cam0);
+        odom.twist.twist.linear.x = tw.linear.x();
+        odom.twist.twist.linear.y = tw.linear.y();
+        odom.twist.twist.linear.z = tw.linear.z();
+        odom.twist.twist.angular.x = tw.angular.x();
+        odom.twist.twist.angular.y = tw.angular.y();
+        odom.twist.twist.angular.z = tw.angular.z();
+        bag.write("/ground_truth/odometry", t, odom);
+        tf2_msgs::TFMessage tfm;
+        tfm.transforms.push_back(toTransform(t, kWorld, kGt, T_W_cam));
+        bag.write("/tf", t, tfm);
+      } else {
+        const StereoFrame& f = rec.frames[i];
+        std_msgs::Header hl, hr;
+        hl.stamp = hr.stamp = t;
+        hl.seq = hr.seq = seq++;
+        hl.frame_id = kLeft;
+        hr.frame_id = kRight;
+        bag.write("/stereo/left/camera_info", t, toMsg(calib.left, hl));
+        bag.write("/stereo/right/camera_info", t, toMsg(calib.right, hr));
+        bag.write("/stereo/left/image_raw", t, *loadMono(f.left_png, hl, rec.cam0));
+        bag.write("/stereo/right/image_raw", t, *loadMono(f.right_png, hr, rec.cam1));
+        if (seq % 100 == 0) std::cerr << "[asl_to_bag] frame " << seq << "\n";
+      }
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "asl_to_bag: " << e.what() << "\n";
+    bag.close();
+    return 1;
+  }
+  bag.close();
+  std::cerr << "[asl_to_bag] done: " << seq << " stereo frames, " << opt.output << "\n";
+  return 0;
+}

@@ -1,0 +1,261 @@
+#!/usr/bin/env python3
+"""Unit tests of the evaluator's metrics, scene geometry, file formats, the
+offline CLI and the plots (tools/eval: trajectory_metrics, scene_geometry,
+trajectory_io, run_analysis, evaluate.py, plots)."""
+import os
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+import yaml
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools", "eval"))
+import evaluate  # noqa: E402
+import evaluation as ev  # noqa: E402
+import plots  # noqa: E402
+import run_analysis  # noqa: E402
+import scene_geometry as sg  # noqa: E402
+import trajectory_io as tio  # noqa: E402
+import trajectory_metrics as tm  # noqa: E402
+
+
+def rot_z(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+def rot_x(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def circle_trajectory(n=400, rate=20.0):
+    """Camera on a 2 m circle at 0.3 rad/s, looking inwards, gently bobbing."""
+    t = np.arange(n) / rate
+    p = np.column_stack([2 * np.cos(0.3 * t), 2 * np.sin(0.3 * t), 0.2 * np.sin(0.7 * t)])
+    r = np.array([rot_z(0.3 * ti) @ rot_x(0.1 * np.sin(ti)) for ti in t])
+    return t, p, r
+
+
+def as_traj(t, p, r):
+    return {"t": t, "p": p, "q": np.array([ev.rot_to_quat(x) for x in r])}
+
+
+class AlignmentTest(unittest.TestCase):
+    def test_se3_and_sim3_recover_transform_and_scale(self):
+        rng = np.random.default_rng(1)
+        est = rng.normal(size=(60, 3))
+        r_true = rot_z(-1.1) @ rot_x(0.4)
+        t_true = np.array([1.0, -2.0, 0.5])
+        ref_rigid = (r_true @ est.T).T + t_true
+        r, t, s = ev.align_umeyama(est, ref_rigid)
+        np.testing.assert_allclose(r, r_true, atol=1e-9)
+        np.testing.assert_allclose(t, t_true, atol=1e-9)
+        self.assertEqual(s, 1.0)
+        ref_scaled = 1.7 * (r_true @ est.T).T + t_true
+        r, t, s = ev.align_umeyama(est, ref_scaled, with_scale=True)
+        np.testing.assert_allclose(r, r_true, atol=1e-9)
+        np.testing.assert_allclose(t, t_true, atol=1e-9)
+        self.assertAlmostEqual(s, 1.7, places=9)
+        # The rigid fit of a scaled copy leaves an error that Sim(3) removes.
+        self.assertGreater(tm.ate(est, ref_scaled)["rmse"], 0.1)
+        self.assertLess(tm.ate(est, ref_scaled, with_scale=True)["rmse"], 1e-9)
+
+    def test_so3_log_and_rotation_angle(self):
+        r = rot_z(0.3) @ rot_x(-0.2)
+        np.testing.assert_allclose(tm.exp_so3(ev.so3_log(r)), r, atol=1e-12)
+        self.assertAlmostEqual(ev.rotation_angle(rot_z(3.0)), 3.0, places=9)
+        self.assertAlmostEqual(ev.rotation_angle(np.eye(3)), 0.0, places=12)
+
+
+class RelativeErrorTest(unittest.TestCase):
+    def test_rpe_of_a_known_drift(self):
+        t, p, r = circle_trajectory()
+        # Estimate drifts 2 cm per second along world x and turns 0.5 deg/s
+        # about world z more than the truth: over 1 s each relative motion is
+        # off by 2 cm and 0.5 deg, whatever the world alignment.
+        drift = np.array([[ti * 0.02, 0.0, 0.0] for ti in t])
+        est_r = np.array([rot_z(np.radians(0.5) * ti) @ ri for ti, ri in zip(t, r)])
+        est_p = np.array([rot_z(np.radians(0.5) * ti) @ pi for ti, pi in zip(t, p)]) + drift
+        trans, rot = tm.rpe(t, est_p, est_r, p, r, delta=1.0)
+        self.assertEqual(len(trans), len(t) - 20)
+        np.testing.assert_allclose(rot, 0.5, atol=1e-9)
+        self.assertGreater(trans.min(), 0.0)
+        trans0, rot0 = tm.rpe(t, p, r, p, r, delta=1.0)
+        self.assertLess(trans0.max(), 1e-12)
+        self.assertLess(rot0.max(), 1e-9)
+        # A pure translation drift: exactly 2 cm per second.
+        trans_d, _ = tm.rpe(t, p + drift, r, p, r, delta=1.0)
+        np.testing.assert_allclose(trans_d, 0.02, atol=1e-9)
+
+
+class NeesTest(unittest.TestCase):
+    def test_nees_of_a_known_gaussian_sample(self):
+        rng = np.random.default_rng(7)
+        n = 2000
+        a = rng.normal(size=(3, 3))
+        cov = a @ a.T + 0.1 * np.eye(3)
+        e = rng.multivariate_normal(np.zeros(3), cov, size=n)
+        v = tm.nees(e, np.repeat(cov[None], n, axis=0))
+        s = tm.nees_summary(v)
+        lo, hi = s["mean_bounds_95"]
+        self.assertLess(lo, s["mean"])
+        self.assertLess(s["mean"], hi)
+        self.assertAlmostEqual(s["fraction_in_95_band"], 0.95, delta=0.02)
+        # A covariance stated 4x too small is detected.
+        s_bad = tm.nees_summary(tm.nees(e, np.repeat(cov[None] / 4, n, axis=0)))
+        self.assertGreater(s_bad["mean"], s_bad["mean_bounds_95"][1])
+
+    def test_pose_nees_uses_the_alignment(self):
+        rng = np.random.default_rng(8)
+        t, p, r = circle_trajectory(n=300)
+        sp, sr = 0.01, np.radians(0.5)
+        r_w = rot_z(0.8)
+        t_w = np.array([0.5, 0.1, -0.3])
+        # Estimate in its own world: T_est = T_w^-1 * (perturbed truth).
+        e_p = p + rng.normal(scale=sp, size=p.shape)
+        e_r = np.array([tm.exp_so3(rng.normal(scale=sr, size=3)) @ ri for ri in r])
+        est_p = (r_w.T @ (e_p - t_w).T).T
+        est_r = np.array([r_w.T @ x for x in e_r])
+        cov = np.zeros((len(t), 6, 6))
+        # Covariances in the estimate's world frame (rotated by R_w^T).
+        cov[:, :3, :3] = sp ** 2 * np.eye(3)
+        cov[:, 3:, 3:] = r_w.T @ np.diag([sr ** 2, sr ** 2, sr ** 2]) @ r_w
+        rep, series = run_analysis.analyse({**as_traj(t, est_p, est_r), "cov": cov}, as_traj(t, p, r), max_dt=1e-6)
+        for key in ("nees_position", "nees_rotation"):
+            lo, hi = rep[key]["mean_bounds_95"]
+            self.assertTrue(lo * 0.9 < rep[key]["mean"] < hi * 1.1, (key, rep[key]))
+            self.assertEqual(len(series[key]), len(t))
+
+
+class SceneGeometryTest(unittest.TestCase):
+    def test_distance_to_each_surface_type(self):
+        sphere = sg.Sphere([1, 2, 3], 0.5)
+        np.testing.assert_allclose(sphere.distance(np.array([[1, 2, 4.0], [1, 2, 3.2]])), [0.5, -0.3])
+        cyl = sg.Cylinder([0, 0, 0], [0, 0, 2], 1.0, 2.0)
+        pts = np.array([[1.5, 0, 0], [0, 0.5, 1.9], [1.0, 0, 3.0], [4.0, 0, 6.0]])
+        np.testing.assert_allclose(cyl.distance(pts), [0.5, -0.5, 1.0, 5.0])
+        plane = sg.Plane([0, 0, 1], [0, 0, -3], 2.0)
+        pts = np.array([[0.5, 0.5, 1.2], [1.0, 0, 0.7], [5.0, 0, 1.0], [0, 5.0, 5.0]])
+        np.testing.assert_allclose(plane.distance(pts), [-0.2, 0.3, 3.0, -5.0])
+        scene = [sphere, plane]
+        np.testing.assert_allclose(sg.distance_to_scene(np.array([[1, 2, 3.6], [0, 0, 1.05]]), scene), [0.1, 0.05])
+
+    def test_scene_yaml_globe_info_and_map_error(self):
+        name, surfaces = sg.parse_scene(
+            "name: hall\nsurfaces:\n  - {type: sphere, centre: [0, 0, 0], radius: 1}\n"
+            "  - {type: cylinder, centre: [3, 0, 0], axis: [0, 0, 1], radius: 0.2, half_length: 1}\n"
+            "  - {type: plane, point: [0, 0, -2], normal: [0, 0, 1], half_extent: 10}\n")
+        self.assertEqual(name, "hall")
+        self.assertEqual([type(s).__name__ for s in surfaces], ["Sphere", "Cylinder", "Plane"])
+        with self.assertRaises(ValueError):
+            sg.parse_scene("surfaces:\n  - {type: cone}\n")
+        with self.assertRaises(ValueError):
+            sg.parse_scene("surfaces:\n  - {type: sphere, centre: [0, 0, 0]}\n")
+        _, globe = sg.parse_globe_info("radius: 2.0\ncentre: [0, 0, 1]\nframe_id: world\n")
+        # Points 1 cm outside the sphere, seen through a known map -> world transform.
+        rng = np.random.default_rng(2)
+        d = rng.normal(size=(200, 3))
+        d /= np.linalg.norm(d, axis=1)[:, None]
+        world = np.array([0, 0, 1.0]) + 2.01 * d
+        r, t = rot_z(0.4), np.array([0.2, 0.0, -0.1])
+        local = (r.T @ (world - t).T).T
+        rms, med = sg.map_error(local, r, t, globe)
+        self.assertAlmostEqual(rms, 0.01, places=9)
+        self.assertAlmostEqual(med, 0.01, places=9)
+
+
+class FilesAndCliTest(unittest.TestCase):
+    def test_asl_ground_truth_to_camera_and_tum_round_trip(self):
+        with tempfile.TemporaryDirectory() as d:
+            t_bs = np.eye(4)
+            t_bs[:3, :3] = rot_x(np.pi / 2)
+            t_bs[:3, 3] = [0.1, -0.05, 0.02]
+            csv = os.path.join(d, "gt.csv")
+            with open(csv, "w") as f:
+                f.write("#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], "
+                        "q_RS_z [], v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1]\r\n")
+                f.write("1403636580838555648,1.0,2.0,3.0,%r,0,0,%r,0,0,0\r\n" % (np.cos(0.5), np.sin(0.5)))
+            sensor = os.path.join(d, "sensor.yaml")
+            with open(sensor, "w") as f:
+                f.write("%YAML:1.0\nT_BS:\n  cols: 4\n  rows: 4\n  data: [" +
+                        ", ".join(repr(v) for v in t_bs.reshape(-1)) + "]\n")
+            gt = tio.read_trajectory(csv, tio.read_t_bs(sensor))
+            self.assertAlmostEqual(gt["t"][0], 1403636580.838555648, places=6)
+            r_wb = rot_z(1.0)
+            np.testing.assert_allclose(gt["p"][0], [1, 2, 3] + r_wb @ t_bs[:3, 3], atol=1e-12)
+            np.testing.assert_allclose(ev.quat_to_rot(gt["q"][0]), r_wb @ t_bs[:3, :3], atol=1e-12)
+            np.testing.assert_allclose(tio.read_t_bs(",".join(str(v) for v in t_bs.reshape(-1))), t_bs)
+            tum = os.path.join(d, "gt.tum")
+            tio.write_tum(tum, gt["t"], gt["p"], gt["q"])
+            back = tio.read_tum(tum)
+            np.testing.assert_allclose(back["p"], gt["p"], atol=1e-9)
+
+    def test_offline_cli_writes_report(self):
+        t, p, r = circle_trajectory()
+        rng = np.random.default_rng(5)
+        r_w, t_w = rot_z(-0.6), np.array([3.0, 1.0, 0.0])
+        noisy = p + rng.normal(scale=0.01, size=p.shape)
+        est_p = (r_w @ noisy.T).T + t_w
+        est_r = np.array([r_w @ x for x in r])
+        with tempfile.TemporaryDirectory() as d:
+            tio.write_tum(os.path.join(d, "est.txt"), t, est_p, [ev.rot_to_quat(x) for x in est_r])
+            tio.write_tum(os.path.join(d, "gt.txt"), t + 0.001, p, [ev.rot_to_quat(x) for x in r])
+            with open(os.path.join(d, "scene.yaml"), "w") as f:
+                f.write("name: ring\nsurfaces:\n  - {type: sphere, centre: [0, 0, 0], radius: 5}\n")
+            with open(os.path.join(d, "map.ply"), "w") as f:
+                pts = (r_w @ np.array([[5.02, 0, 0], [0, -4.98, 0]]).T).T + t_w
+                f.write("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                        "property float z\nend_header\n" + "".join("%f %f %f\n" % tuple(x) for x in pts))
+            out = os.path.join(d, "out")
+            rc = evaluate.main(["--estimate", os.path.join(d, "est.txt"), "--truth", os.path.join(d, "gt.txt"),
+                                "--scene", os.path.join(d, "scene.yaml"), "--map", os.path.join(d, "map.ply"),
+                                "--out", out])
+            self.assertEqual(rc, 0)
+            with open(os.path.join(out, "report.yaml")) as f:
+                rep = yaml.safe_load(f)
+            self.assertEqual(rep["poses_compared"], len(t))
+            self.assertTrue(0.01 < rep["ate_rmse_m"] < 0.025, rep["ate_rmse_m"])
+            self.assertLessEqual(rep["ate_sim3_rmse_m"], rep["ate_rmse_m"])
+            self.assertAlmostEqual(rep["sim3_scale"], 1.0, delta=0.01)
+            self.assertLess(rep["rotation_max_deg"], 1.0)
+            self.assertIn("rpe_1s_translation_rmse_m", rep)
+            self.assertAlmostEqual(rep["map_rms_to_surface_m"], 0.02, delta=0.005)
+            self.assertEqual(rep["map_points"], 2)
+            # Interpolation matches the truth shifted by 1 ms as well.
+            rc = evaluate.main(["--estimate", os.path.join(d, "est.txt"), "--truth", os.path.join(d, "gt.txt"),
+                                "--interpolate", "--max-dt", "0.1", "--out", out])
+            self.assertEqual(rc, 0)
+            # Too tight a tolerance matches nothing: exit 1, not a made-up number.
+            self.assertEqual(evaluate.main(["--estimate", os.path.join(d, "est.txt"), "--truth",
+                                            os.path.join(d, "gt.txt"), "--max-dt", "0.0001", "--out", out]), 1)
+
+    def test_plots(self):
+        reason = plots.available()
+        if reason is not None:
+            self.skipTest(reason)
+        t, p, r = circle_trajectory(n=100)
+        cov = np.repeat(np.eye(6)[None] * 1e-4, len(t), axis=0)
+        _, series = run_analysis.analyse({**as_traj(t, p + 0.005, r), "cov": cov}, as_traj(t, p, r), max_dt=1e-6)
+        with tempfile.TemporaryDirectory() as d:
+            files = plots.write_plots(series, d)
+            self.assertEqual(sorted(os.path.basename(f) for f in files), sorted(plots.PLOT_FILES))
+            for f in files:
+                with open(f, "rb") as fh:
+                    self.assertEqual(fh.read(8), b"\x89PNG\r\n\x1a\n")
+
+
+class VelocityTest(unittest.TestCase):
+    def test_velocity_rms_against_truth_twist(self):
+        t, p, r = circle_trajectory(n=50)
+        twist = np.tile([0.5, 0.0, 0.1, 0.0, 0.3, 0.0], (len(t), 1))
+        est = {**as_traj(t, p, r), "twist": twist + [0.03, 0.04, 0.0, 0.0, 0.0, 0.02]}
+        rep, _ = run_analysis.analyse(est, as_traj(t, p, r), max_dt=1e-6, gt_twist={"t": t, "twist": twist})
+        self.assertAlmostEqual(rep["linear_velocity_rms_m_s"], 0.05, places=12)
+        self.assertAlmostEqual(rep["angular_velocity_rms_rad_s"], 0.02, places=12)
+        self.assertEqual(rep["velocity_samples"], len(t))
+
+
+if __name__ == "__main__":
+    unittest.main()
