@@ -15,8 +15,10 @@
 #                                        (after `source <ws>/devel/setup.bash`,
 #                                         or with HAPI_WS pointing at the workspace)
 #
-# ARG:=VALUE pairs go to launch/replay.launch (e.g. motion_model:=inertial once
-# the launch file declares it); an ARG it does not declare is refused.
+# ARG:=VALUE pairs go to launch/replay.launch (e.g. motion_model:=gyro); an
+# ARG it does not declare is refused. Without motion_model:= the back end uses
+# the inertial model when the bag has IMU samples (/imu/data), else
+# config/eskf.yaml's.
 # HAPI_SUMMARY_ARGS are passed to tools/eval/pipeline_summary.py (e.g.
 # "--map-error if-known" for a recording without known geometry).
 #
@@ -89,7 +91,15 @@ export ROS_MASTER_URI="http://localhost:$PORT"
 export ROS_HOSTNAME=localhost
 unset ROS_IP || true
 
-BAG_SECONDS="$(/usr/bin/python3 -c "import rosbag,sys; b=rosbag.Bag(sys.argv[1]); print(int(b.get_end_time()-b.get_start_time())+1)" "$BAG")"
+read -r BAG_SECONDS BAG_HAS_IMU < <(/usr/bin/python3 -c "
+import rosbag, sys
+b = rosbag.Bag(sys.argv[1])
+print(int(b.get_end_time() - b.get_start_time()) + 1, int('/imu/data' in b.get_type_and_topic_info().topics))" "$BAG")
+# The inertial filter when the bag has IMU samples, unless told otherwise.
+if [ "$BAG_HAS_IMU" = 1 ] && ! printf '%s\n' "${LAUNCH_ARGS[@]}" | grep -q '^motion_model:='; then
+  LAUNCH_ARGS+=("motion_model:=inertial")
+fi
+echo "[pipeline] launch arguments: ${LAUNCH_ARGS[*]:-(none: the motion model of config/eskf.yaml)}"
 # The evaluator ends the launch once the odometry has been quiet for a few
 # seconds after the bag; this is only a guard against a hung run.
 LIMIT=$((BAG_SECONDS * 6 + 180))

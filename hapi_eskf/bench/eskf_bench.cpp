@@ -230,14 +230,14 @@ int main(int argc, char** argv) {
   std::map<int, RankUpdateTiming> rank;
   for (int K : o.ks) {
     if (have_cuda) {
-      const int n = stateDim(K);
+      const int n = stateDim(K, kCameraMotionDim);
       RankUpdateTiming rt;
       std::string w;
       if (measureRankUpdate(fp32, n, 3 * o.visible, o.rank_reps, &rt, &w)) rank[K] = rt;
       else std::printf("K=%d: isolated rank update not measured: %s\n", K, w.c_str());
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
       std::string err;
-      auto b = cuda::makeCudaBackend(K, Scenario::kDescLen, o.backend, &err);
+      auto b = cuda::makeCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, o.backend, &err);
       if (!b) {
         Row r;
         r.backend = std::string("cuda-") + toString(o.backend.precision);

@@ -126,7 +126,7 @@ StageTimes Scenario::iterate() {
   // --- association (descriptor matching over the pool + Mahalanobis gate) ---
   t0 = Clock::now();
   Association assoc;
-  if (!check(associate(frame, pose_, positions_, *b_, s_, &assoc), "association", &st)) return st;
+  if (!check(associate(frame, pose_, Mat6::Identity(), positions_, *b_, s_, &assoc), "association", &st)) return st;
   st.association = msSince(t0);
 
   // --- update ---
@@ -148,8 +148,8 @@ StageTimes Scenario::iterate() {
     Eigen::VectorXd dx;
     if (!check(b_->update(blocks, &dx), "update", &st)) return st;
     {
-      injectPose(&pose_, dx.head<kPoseDim>());
-      for (int k = 0; k < K; ++k) positions_[k] += dx.segment<3>(landmarkRow(k));
+      injectPose(&pose_, dx.head<kCameraMotionDim>());
+      for (int k = 0; k < K; ++k) positions_[k] += dx.segment<3>(landmarkRow(k, kCameraMotionDim));
       for (int k = 0; k < K; ++k)
         if (used[k]) last_seen_[k] = t_;
     }

@@ -208,6 +208,20 @@ TEST(InertialAlignment, StillStartLevelsTheWorldAndTakesTheGyroBias) {
   EXPECT_EQ(start.x.b_g, Vec3::Zero());
   EXPECT_NEAR(std::sqrt(start.C(kIdxV, kIdxV)), s.initial_sigma_velocity, 1e-12);
 
+  // A steady turn has no spread: it is not still (its rate is no bias).
+  std::vector<ImuSample> turn;
+  for (int k = 1; k <= 80; ++k) turn.push_back(ImuSample{0.005 * k, Vec3(0.0, -0.2, 0.05), Vec3(0.0, -9.81, 0.0)});
+  ASSERT_EQ(alignInertialStart(turn, *m, s, &start), Status::kOk);
+  EXPECT_FALSE(start.still);
+  EXPECT_EQ(start.x.b_g, Vec3::Zero());
+  // Nor is a steady acceleration (|f| != g).
+  for (ImuSample& x : turn) {
+    x.gyro.setZero();
+    x.accel = Vec3(0.0, -9.81, 2.0);  // |f| - g = 0.2 m/s^2
+  }
+  ASSERT_EQ(alignInertialStart(turn, *m, s, &start), Status::kOk);
+  EXPECT_FALSE(start.still);
+
   // Free fall (no direction) and bad input are refused.
   for (ImuSample& x : w) x.accel.setZero();
   EXPECT_EQ(alignInertialStart(w, *m, s, &start), Status::kEmptyInput);

@@ -4,7 +4,15 @@
 // RMS to the true sphere) plus per-frame filter statistics. A development
 // tool for studying accuracy and consistency; not a test.
 //
-//   eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--verbose] [key=value ...]
+//   eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--verbose] [--out PREFIX] [key=value ...]
+//
+// With motion_model=gyro or inertial the stream's IMU samples (and its
+// extrinsic) drive the prediction exactly as in the nodelet: every sample up
+// to a frame's stamp is applied before the frame, samples before the first
+// frame are dropped. --out PREFIX writes PREFIX_estimate.tum (the filter's
+// camera pose per frame, TUM: t x y z qx qy qz qw) and, with an IMU model,
+// PREFIX_imu_rate.txt (the nodelet's IMU-rate output: t, pose as in TUM, then
+// the camera-frame linear and angular velocity), for tools/eval/evaluate.py.
 //
 // Without overrides it runs the default EskfSettings, i.e. the tuned filter of
 // config/eskf.yaml. key=value overrides any EskfSettings field (same names as
@@ -16,6 +24,8 @@
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/pose_propagator.hpp"
+#include "landmark_stream.hpp"
 
 #include <Eigen/SVD>
 
@@ -32,18 +42,6 @@
 using namespace hapi_eskf;
 
 namespace {
-
-struct Gt {
-  double t;
-  Vec3 p;
-  Eigen::Quaterniond q;
-};
-
-std::vector<uint8_t> fromHex(const std::string& h) {
-  std::vector<uint8_t> out(h.size() / 2);
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<uint8_t>(std::stoi(h.substr(2 * i, 2), nullptr, 16));
-  return out;
-}
 
 // Umeyama without scale: R, t minimising sum |R e + t - g|^2.
 void alignRigid(const std::vector<Vec3>& e, const std::vector<Vec3>& g, Mat3* R, Vec3* t) {
@@ -64,7 +62,8 @@ void alignRigid(const std::vector<Vec3>& e, const std::vector<Vec3>& g, Mat3* R,
 
 int main(int argc, char** argv) {
   const char* usage =
-      "usage: eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--gtcheck] [--verbose] [key=value ...]\n"
+      "usage: eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--gtcheck] [--verbose] [--out PREFIX] "
+      "[key=value ...]\n"
       "       eskf_replay --help   (lists the settings key=value may set)\n";
   if (argc >= 2 && std::string(argv[1]) == "--help") {
     std::cout << usage << "settings (EskfSettings, config/eskf.yaml):\n";
@@ -80,6 +79,7 @@ int main(int argc, char** argv) {
   int every = 1;
   double gap_start = -1.0, gap_len = 0.0;
   bool verbose = false;
+  std::string out_prefix;
   bool gtcheck = false;  // association and measurement errors against the ground truth
   for (int i = 2; i < argc; ++i) {
     std::string a = argv[i];
@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
       continue;
     }
     if (a == "--verbose") { verbose = true; continue; }
+    if (a == "--out" && i + 1 < argc) { out_prefix = argv[++i]; continue; }
     if (a == "--gtcheck") { gtcheck = true; continue; }
     const auto eq = a.find('=');
     if (eq == std::string::npos) {
@@ -104,51 +105,45 @@ int main(int argc, char** argv) {
   }
   if (!s.validate().empty()) { std::cerr << s.validate() << "\n"; return 1; }
 
-  std::ifstream in(argv[1]);
-  std::vector<StereoFrame> frames;
-  std::vector<Gt> gt;
-  Vec3 centre = Vec3::Zero();
-  double radius = 0;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "globe") {
-      ls >> centre.x() >> centre.y() >> centre.z() >> radius;
-    } else if (tag == "gt") {
-      Gt g;
-      ls >> g.t >> g.p.x() >> g.p.y() >> g.p.z() >> g.q.x() >> g.q.y() >> g.q.z() >> g.q.w();
-      gt.push_back(g);
-    } else if (tag == "frame") {
-      StereoFrame f;
-      int n;
-      ls >> f.stamp >> n >> f.descriptor_length;
-      f.measurements.resize(n);
-      for (int i = 0; i < n; ++i) {
-        std::getline(in, line);
-        std::istringstream ms(line);
-        std::string m, hex;
-        int r, g, b;
-        StereoMeasurement& z = f.measurements[i];
-        ms >> m >> z.frontend_id >> z.response >> r >> g >> b >> z.z.x() >> z.z.y() >> z.z.z();
-        for (int k = 0; k < 9; ++k) ms >> z.Cz(k / 3, k % 3);
-        ms >> hex;
-        z.rgb = {{static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)}};
-        const auto d = fromHex(hex);
-        f.descriptors.insert(f.descriptors.end(), d.begin(), d.end());
-      }
-      frames.push_back(std::move(f));
-    }
+  tools::LandmarkStream stream;
+  std::string read_error;
+  if (!tools::readLandmarkStream(argv[1], &stream, &read_error)) {
+    std::cerr << read_error << "\n";
+    return 1;
   }
-  std::fprintf(stderr, "%zu frames, %zu gt, globe r=%.3f\n", frames.size(), gt.size(), radius);
+  const std::vector<StereoFrame>& frames = stream.frames;
+  const std::vector<tools::TruePose>& gt = stream.truth;
+  const Vec3 centre = stream.globe_centre;
+  const double radius = stream.globe_radius;
+  std::fprintf(stderr, "%zu frames, %zu IMU samples, %zu gt, globe r=%.3f\n", frames.size(), stream.imu.size(),
+               gt.size(), radius);
   if (frames.empty()) return 1;
+  const bool use_imu = s.motion_model != MotionModelKind::kConstantVelocity;
+  if (use_imu && (stream.imu.empty() || !stream.extrinsic)) {
+    std::cerr << "motion_model " << toString(s.motion_model) << " needs IMU samples and an extrinsic in the stream\n";
+    return 1;
+  }
 
   std::string err;
   auto backend = makeBackend(s, frames[0].descriptor_length, &err);
   if (!backend) { std::cerr << err << "\n"; return 1; }
-  Eskf eskf(s, std::move(backend));
+  Eskf eskf(s, std::move(backend), stream.extrinsic.value_or(CameraExtrinsic()));
   eskf.reset(PoseState(), frames[0].stamp);
+  // The nodelet's order: IMU samples on the camera clock, every one up to a
+  // frame's stamp applied before it; the IMU-rate output re-based after each
+  // frame and stepped through the samples up to the next one.
+  std::vector<ImuSample> imu;
+  for (const ImuSample& m : stream.imu) imu.push_back(imuSampleOnCameraClock(m.stamp, m.gyro, m.accel, s));
+  std::size_t next_imu = 0;
+  PosePropagator imu_rate(s);
+  std::FILE* est_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_estimate.tum").c_str(), "w");
+  std::FILE* rate_file =
+      out_prefix.empty() || !use_imu ? nullptr : std::fopen((out_prefix + "_imu_rate.txt").c_str(), "w");
+  auto writePose = [](std::FILE* f, double t, const PoseState& x) {
+    std::fprintf(f, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", t, x.p.x(), x.p.y(), x.p.z(), x.q.x(), x.q.y(),
+                 x.q.z(), x.q.w());
+  };
+  int imu_rejected = 0, awaiting = 0, vision_led = 0, scene_moving = 0;
 
   std::vector<Vec3> est, ref;
   double sum_t = 0, nis_sum = 0;
@@ -164,8 +159,8 @@ int main(int argc, char** argv) {
   for (std::size_t fi = 0; fi < frames.size(); fi += every) {
     const double t_rel = frames[fi].stamp - frames[0].stamp;
     if (t_rel >= gap_start && t_rel < gap_start + gap_len) continue;
-    const Gt* g0 = nullptr;
-    for (const Gt& g : gt)
+    const tools::TruePose* g0 = nullptr;
+    for (const tools::TruePose& g : gt)
       if (!g0 || std::abs(g.t - frames[fi].stamp) < std::abs(g0->t - frames[fi].stamp)) g0 = &g;
     const Mat3 Rg = g0->q.toRotationMatrix();
     if (gtcheck) {
@@ -229,10 +224,33 @@ int main(int argc, char** argv) {
       n_wrong += wrong;
       if (verbose) std::printf("  assoc %d wrong %d\n", tot, wrong);
     }
+    // IMU samples up to this frame: the IMU-rate output between frames, then the filter.
+    for (; use_imu && next_imu < imu.size() && imu[next_imu].stamp <= frames[fi].stamp; ++next_imu) {
+      const ImuSample& m = imu[next_imu];
+      if (m.stamp <= eskf.time()) continue;
+      if (rate_file && imu_rate.valid() && m.stamp > imu_rate.time() && imu_rate.step(m) == Status::kOk) {
+        writePose(rate_file, m.stamp, imu_rate.pose());
+        const PoseState c = imu_rate.pose();
+        std::fprintf(rate_file, " %.9f %.9f %.9f %.9f %.9f %.9f\n", c.v.x(), c.v.y(), c.v.z(), c.w.x(), c.w.y(),
+                     c.w.z());
+      }
+      if (eskf.addImu(m) != Status::kOk) ++imu_rejected;
+    }
     std::map<uint64_t, int> before;
     for (const auto& l : eskf.landmarks()) before[l.id] = 1;
     IterationReport rep;
     const Status st = eskf.processFrame(frames[fi], &rep);
+    if (st == Status::kAwaitingImu) {
+      ++awaiting;
+      continue;
+    }
+    if (est_file && !rep.relocalising) {
+      writePose(est_file, frames[fi].stamp, eskf.pose());
+      std::fprintf(est_file, "\n");
+    }
+    if (use_imu && st == Status::kOk) imu_rate.rebase(eskf);
+    vision_led += rep.vision_led;
+    scene_moving += rep.scene_moving;
     if (gtcheck)
       for (const auto& l : eskf.landmarks()) {
         if (before.count(l.id)) continue;
@@ -247,20 +265,31 @@ int main(int argc, char** argv) {
     sum_t += rep.t_total_ms;
     if (rep.n_updated > 0) { nis_sum += rep.mean_nis; ++nis_n; }
     // Nearest ground truth (same stamps in the generated bags).
-    const Gt* best = nullptr;
-    for (const Gt& g : gt)
+    const tools::TruePose* best = nullptr;
+    for (const tools::TruePose& g : gt)
       if (!best || std::abs(g.t - frames[fi].stamp) < std::abs(best->t - frames[fi].stamp)) best = &g;
     // Frames held back while relocalising are not published by the nodelet.
     if (best && std::abs(best->t - frames[fi].stamp) < 0.006 && !rep.relocalising) {
       est.push_back(eskf.pose().p);
       ref.push_back(best->p);
     }
-    if (verbose)
-      std::printf("t=%.2f st=%s meas=%d cand=%d gated=%d upd=%d add=%d rem=%d K=%d nis=%.2f ms=%.1f sig_p=%.4f\n",
+    if (verbose) {
+      const NominalState& x = eskf.state();
+      std::printf("t=%.2f st=%s meas=%d cand=%d gated=%d upd=%d add=%d rem=%d K=%d nis=%.2f ms=%.1f sig_p=%.4f%s"
+                  " v=(%.3f %.3f %.3f) b_g=(%.4f %.4f %.4f) b_a=(%.3f %.3f %.3f) g=(%.3f %.3f %.3f)\n",
                   frames[fi].stamp - frames[0].stamp, toString(st), rep.n_measurements, rep.n_candidates,
                   rep.n_gated_out, rep.n_updated, rep.n_added, rep.n_removed, rep.n_landmarks, rep.mean_nis,
-                  rep.t_total_ms, std::sqrt(eskf.poseCovariance().block<3, 3>(0, 0).trace()));
+                  rep.t_total_ms, std::sqrt(eskf.poseCovariance().block<3, 3>(0, 0).trace()),
+                  rep.vision_led ? " VISION" : "", x.v.x(), x.v.y(), x.v.z(), x.b_g.x(), x.b_g.y(), x.b_g.z(),
+                  x.b_a.x(), x.b_a.y(), x.b_a.z(), x.g.x(), x.g.y(), x.g.z());
+    }
   }
+  if (est_file) std::fclose(est_file);
+  if (rate_file) std::fclose(rate_file);
+  if (use_imu)
+    std::printf("motion model %s: %d frames waited for the gravity alignment, %d IMU samples rejected, "
+                "vision led in %d frames (scene moving in %d)\n",
+                toString(s.motion_model), awaiting, imu_rejected, vision_led, scene_moving);
   if (est.size() < 3) { std::cerr << "too few poses\n"; return 1; }
   Mat3 R;
   Vec3 t;

@@ -3,10 +3,9 @@
 // gravity, so the filter's world (the published map frame) is gravity-aligned,
 // z up (REP-103); its origin is the first camera position and its yaw the
 // smallest rotation that levels the body.
-//  * Still start (the spread of both the gyro and the accelerometer over the
-//    window below static_gyro_threshold / static_accel_threshold): the mean
-//    gyro is the gyro bias (1 sigma: its standard error), the velocity is
-//    zero with static_sigma_velocity.
+//  * Still start (imuWindowStats below): the mean gyro is the gyro bias (1
+//    sigma: its standard error), the velocity is zero with
+//    static_sigma_velocity.
 //  * Moving start: the mean specific force still points up to within the
 //    mean acceleration over the window (a hand's motion averages out); the
 //    gyro bias starts at zero (initial_sigma_gyro_bias) and the velocity at
@@ -19,16 +18,33 @@
 #include "hapi_eskf/motion_model.hpp"
 #include "hapi_eskf/status.hpp"
 
+#include <cmath>
 #include <vector>
 
 namespace hapi_eskf {
 
+// A window of IMU samples: means, and whether the device was still. Still
+// means all three: the gyro's RMS about gyro_bias below static_gyro_threshold
+// (a steady turn has no spread, so the spread alone would call it still and
+// take the turn rate for a bias), the accelerometer's RMS deviation from its
+// mean below static_accel_threshold, and the mean specific force within
+// static_accel_threshold of gravity_magnitude (no steady acceleration). The
+// alignment and the scene-motion check use this one rule.
+struct ImuWindowStats {
+  Vec3 gyro_mean = Vec3::Zero(), accel_mean = Vec3::Zero();
+  double gyro_rms = 0.0;      // about the bias [rad/s]
+  double accel_spread = 0.0;  // RMS deviation from the mean [m/s^2]
+  bool still = false;
+};
+template <typename Iterator>
+ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bias, const EskfSettings& s);
+
 struct InertialStart {
   NominalState x;  // at the stamp of the window's last sample
   PoseMat C;       // 18 x 18
-  bool still = false;
-  double gyro_spread = 0.0, accel_spread = 0.0;  // RMS deviation from the mean [rad/s], [m/s^2]
-  double specific_force = 0.0;                   // |mean accelerometer| [m/s^2]
+  ImuWindowStats window;        // the alignment window, about a zero gyro bias
+  bool still = false;            // window.still
+  double specific_force = 0.0;   // |mean accelerometer| [m/s^2]
 };
 
 // `window`: increasing stamps, at least 2 samples; the model must be the
@@ -37,5 +53,27 @@ struct InertialStart {
 // direction (free fall, a dead accelerometer).
 Status alignInertialStart(const std::vector<ImuSample>& window, const MotionModel& model, const EskfSettings& s,
                           InertialStart* out);
+
+template <typename Iterator>
+ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bias, const EskfSettings& s) {
+  ImuWindowStats r;
+  double n = 0.0, w2 = 0.0;
+  for (Iterator it = begin; it != end; ++it) {
+    r.gyro_mean += it->gyro;
+    r.accel_mean += it->accel;
+    w2 += (it->gyro - gyro_bias).squaredNorm();
+    n += 1.0;
+  }
+  if (n < 2.0) return r;
+  r.gyro_mean /= n;
+  r.accel_mean /= n;
+  double f2 = 0.0;
+  for (Iterator it = begin; it != end; ++it) f2 += (it->accel - r.accel_mean).squaredNorm();
+  r.gyro_rms = std::sqrt(w2 / n);
+  r.accel_spread = std::sqrt(f2 / n);
+  r.still = r.gyro_rms < s.static_gyro_threshold && r.accel_spread < s.static_accel_threshold &&
+            std::abs(r.accel_mean.norm() - s.gravity_magnitude) < s.static_accel_threshold;
+  return r;
+}
 
 }  // namespace hapi_eskf

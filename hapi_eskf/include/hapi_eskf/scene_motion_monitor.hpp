@@ -9,9 +9,9 @@
 // agrees with itself on a pose the prediction does not allow, and vision
 // leads for disagreement_hold seconds. The test is scale-free: it needs no
 // distance threshold, only the covariances the gate already uses. Whether
-// the device itself was still meanwhile (the spread of the recent gyro and
-// accelerometer samples below the static thresholds of the alignment) tells
-// "the scene moved" from "the prediction was wrong".
+// the device itself was still meanwhile (the last alignment_window of IMU
+// samples, inertial_alignment.hpp imuWindowStats about the filter's gyro
+// bias) tells "the scene moved" from "the prediction was wrong".
 #pragma once
 
 #include "hapi_eskf/motion_model.hpp"
@@ -31,17 +31,18 @@ class SceneMotionMonitor {
  public:
   explicit SceneMotionMonitor(const EskfSettings& s) : s_(s) {}
 
-  void addImu(const ImuSample& m);
+  // Each sample the filter used, with its current gyro bias estimate.
+  void addImu(const ImuSample& m, const Vec3& gyro_bias);
   // One frame at `stamp` with a fit of fit_inliers landmarks, of which the
   // gate around the prediction rejected inliers_gated_out.
   SceneMotionVerdict onFrame(double stamp, int fit_inliers, int inliers_gated_out);
   void reset();
 
  private:
-  bool deviceStill() const;
 
   EskfSettings s_;
   std::deque<ImuSample> recent_;  // the last alignment_window seconds
+  Vec3 gyro_bias_ = Vec3::Zero();
   double last_disagreement_ = -std::numeric_limits<double>::infinity();
 };
 

@@ -128,7 +128,7 @@ Status Eskf::addImu(const ImuSample& sample) {
     return Status::kOk;
   }
   const Status st = predictStepTo(sample.stamp, &sample);
-  if (st == Status::kOk) scene_motion_.addImu(sample);
+  if (st == Status::kOk) scene_motion_.addImu(sample, state_.b_g);
   return st;
 }
 
@@ -147,7 +147,7 @@ Status Eskf::align() {
   state_ = start.x;
   time_ = alignment_samples_.back().stamp;
   last_frame_stamp_ = time_;
-  for (const ImuSample& m : alignment_samples_) scene_motion_.addImu(m);
+  for (const ImuSample& m : alignment_samples_) scene_motion_.addImu(m, state_.b_g);
   alignment_samples_.clear();
   awaiting_alignment_ = false;
   return Status::kOk;

@@ -9,27 +9,15 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
                           InertialStart* out) {
   if (out == nullptr || window.size() < 2 || model.kind() != MotionModelKind::kInertial)
     return Status::kInvalidArgument;
-  Vec3 w_mean = Vec3::Zero(), f_mean = Vec3::Zero();
-  for (const ImuSample& m : window) {
+  for (const ImuSample& m : window)
     if (!m.gyro.allFinite() || !m.accel.allFinite() || !std::isfinite(m.stamp)) return Status::kNonFinite;
-    w_mean += m.gyro;
-    f_mean += m.accel;
-  }
-  const double n = static_cast<double>(window.size());
-  w_mean /= n;
-  f_mean /= n;
-  double w_var = 0.0, f_var = 0.0;
-  for (const ImuSample& m : window) {
-    w_var += (m.gyro - w_mean).squaredNorm();
-    f_var += (m.accel - f_mean).squaredNorm();
-  }
   InertialStart r;
-  r.gyro_spread = std::sqrt(w_var / n);
-  r.accel_spread = std::sqrt(f_var / n);
+  r.window = imuWindowStats(window.begin(), window.end(), Vec3::Zero(), s);
+  r.still = r.window.still;
+  const Vec3 w_mean = r.window.gyro_mean, f_mean = r.window.accel_mean;
   r.specific_force = f_mean.norm();
   // Below a quarter of g no direction is trustworthy.
   if (!(r.specific_force > 0.25 * s.gravity_magnitude)) return Status::kEmptyInput;
-  r.still = r.gyro_spread < s.static_gyro_threshold && r.accel_spread < s.static_accel_threshold;
 
   // At rest the accelerometer reads -R_wb^T g = |g| R_wb^T z: R_wb takes the
   // mean specific force to +z.

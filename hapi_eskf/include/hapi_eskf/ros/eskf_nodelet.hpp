@@ -20,7 +20,7 @@
 // callback), publishes odom/pose/path/TF per frame and refreshes the map
 // snapshot that a wall timer publishes at ~map_publish_rate. With ~use_imu
 // the IMU callback publishes odom/pose/TF once per gyro sample from a
-// propagated copy of the pose (pose_propagator.hpp, a 12x12 step, never the
+// propagated copy of the pose (pose_propagator.hpp, a pose-block step, never the
 // filter): outputs at the IMU rate that keep flowing while the worker is busy
 // with a frame.
 //

@@ -13,7 +13,7 @@
 #include "hapi_eskf/ros/conversions.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"
 #include "hapi_eskf/ros/params.hpp"
-#include "hapi_eskf/ros/pose_propagator.hpp"
+#include "hapi_eskf/pose_propagator.hpp"
 #include "hapi_eskf/ros/statistics.hpp"
 
 #include <ros/publisher.h>

@@ -1,10 +1,9 @@
-// The nodelet's IMU-rate copy of the filter pose (pose_propagator.hpp).
-#include "hapi_eskf/ros/pose_propagator.hpp"
+// The IMU-rate copy of the filter state (pose_propagator.hpp).
+#include "hapi_eskf/pose_propagator.hpp"
 
 #include "hapi_eskf/jacobians.hpp"
 
 namespace hapi_eskf {
-namespace ros_glue {
 
 void PosePropagator::rebase(const Eskf& filter) {
   model_ = makeMotionModel(settings_, filter.motionModel().extrinsic());
@@ -29,5 +28,4 @@ Mat12 PosePropagator::cameraCovariance() const {
   return model_ ? hapi_eskf::cameraCovariance(*model_, x_, C_) : Mat12::Zero();
 }
 
-}  // namespace ros_glue
 }  // namespace hapi_eskf

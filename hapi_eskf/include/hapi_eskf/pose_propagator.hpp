@@ -1,4 +1,5 @@
-// IMU-rate pose output between filter frames (prediction at the IMU rate).
+// IMU-rate pose output between filter frames (prediction at the IMU rate),
+// used by the nodelet and by eskf_replay.
 //
 // Why a copy: the filter predicts with the IMU only when the next frame is
 // processed, because it cannot go back in time and a frame always arrives
@@ -14,7 +15,7 @@
 // filter covariance evolves as C_pp <- F C_pp F^T + Q (predictPoseCovariance,
 // as in the CPU backend), independently of the landmark blocks. After the
 // same samples this copy therefore equals the filter's pose and pose
-// covariance (checked in test/ros/pose_propagator_test.cpp).
+// covariance (checked in test/test_pose_propagator.cpp).
 #pragma once
 
 #include "hapi_eskf/eskf.hpp"
@@ -25,7 +26,6 @@
 #include <memory>
 
 namespace hapi_eskf {
-namespace ros_glue {
 
 class PosePropagator {
  public:
@@ -57,5 +57,4 @@ class PosePropagator {
   double time_ = 0.0;
 };
 
-}  // namespace ros_glue
 }  // namespace hapi_eskf

@@ -3,7 +3,7 @@
 // outputs), for the gyro and the inertial model, and reject what the filter
 // rejects.
 #include "hapi_eskf/eskf.hpp"
-#include "hapi_eskf/ros/pose_propagator.hpp"
+#include "hapi_eskf/pose_propagator.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,7 +19,7 @@ using hapi_eskf::PoseMat;
 using hapi_eskf::PoseState;
 using hapi_eskf::Status;
 using hapi_eskf::Vec3;
-using hapi_eskf::ros_glue::PosePropagator;
+using hapi_eskf::PosePropagator;
 
 namespace {
 
