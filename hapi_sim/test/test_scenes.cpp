@@ -108,11 +108,11 @@ TEST(Scene, SkinIsLowContrastButHasCorners) {
   cv::FAST(img, fast, 20, true);
   int on_skin = 0;
   for (const cv::KeyPoint& k : fast) on_skin += inner.at<uint8_t>(cvRound(k.pt.y), cvRound(k.pt.x)) ? 1 : 0;
-  EXPECT_GT(on_skin, 80) << "FAST(20) corners on the skin";
+  EXPECT_GT(on_skin, 120) << "FAST(20) corners on the skin";
   auto orb = cv::ORB::create(1000, 1.2f, 8, 31, 0, 2, cv::ORB::HARRIS_SCORE, 31, 20);
   std::vector<cv::KeyPoint> kps;
   orb->detect(img, kps, inner);
-  EXPECT_GT(kps.size(), 80u) << "ORB keypoints on the skin";
+  EXPECT_GT(kps.size(), 200u) << "ORB keypoints on the skin";
   std::cerr << "skin: grey std " << stddev[0] << ", FAST(20) corners " << on_skin << ", ORB " << kps.size() << "\n";
 #endif
 }
