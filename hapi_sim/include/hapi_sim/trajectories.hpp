@@ -1,7 +1,12 @@
-// hapi_sim: the handheld scenario catalogue: five analytic device
+// hapi_sim: the hand-held scenario catalogue: five analytic device
 // trajectories (left optical frame in the inertial frame) and the scene's
 // own motion (scene frame in the inertial frame), all C2 with exact
-// derivatives through Jet2. Parameters and rationale: docs/DESIGN.md "Data".
+// derivatives through Jet2. Full parameters: docs/DESIGN.md "Data".
+//   smooth    globe: make_globe_bag's orbit; surface: slow scan, no hand motion
+//   handheld  slow sweep along the surface + sway (1-3 Hz) + tremor (8-12 Hz)
+//   fast      1.7 Hz swipe (>= 1 m/s) + 1 Hz roll (>= 3 rad/s) + tremor
+//   loop      leaves the start area (sideways / full orbit) and returns; sway + tremor
+//   subject   device held still (tremor only); the scene moves cm and degrees at 0.5-2 Hz
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
