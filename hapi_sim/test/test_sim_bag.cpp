@@ -149,6 +149,7 @@ TEST_F(SimBagTest, TopicsTypesCountsStampsAndLatching) {
     }
   }
   EXPECT_EQ(globe_->counts.at("/globe/info"), 1);
+  EXPECT_EQ(globe_->text.at("/globe/info").rfind("radius: 0.2\ncentre: [0, 0, 0]\nframe_id: world\nseed: 1\ntexture: \"", 0), 0u);
   EXPECT_TRUE(globe_->latched.at("/globe/info"));
 }
 

@@ -51,6 +51,8 @@ class Scene {
   // First surface hit by the ray (scene frame, d unit): distance and radiance
   // (grey level at unit gain). False on a miss (the renderer's background).
   virtual bool trace(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double* t, float* grey) const = 0;
+  // Where the texture came from (a file path, "generated" or "procedural").
+  virtual std::string textureSource() const { return "procedural"; }
   double distance(const Eigen::Vector3d& X) const { return distanceToSurfaces(surfaces(), X); }
   std::string yaml() const { return sceneYaml(name(), surfaces()); }
 };

@@ -17,6 +17,7 @@ class GlobeSimScene : public Scene {
     surfaces_.push_back(s);
   }
   std::string name() const override { return "globe"; }
+  std::string textureSource() const override { return globe_.texture_source; }
   const std::vector<SurfaceSpec>& surfaces() const override { return surfaces_; }
   ViewGeometry view() const override {
     ViewGeometry v;

@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
   const CameraImuCalibration& cal = sc.calibration();
   const std_msgs::String globe_info =
       text(globeInfoYaml(sc.scene().surfaces()[0].radius, sc.scene().surfaces()[0].centre, kWorld, opt.cfg.seed,
-                         opt.cfg.globe_texture));
+                         sc.scene().textureSource()));
   if (bag) {
     tf2_msgs::TFMessage st;
     st.transforms.push_back(toTransformMsg(t0, kLeft, kRight, Eigen::Vector3d(sc.rig().baseline, 0, 0),
