@@ -116,9 +116,10 @@ cv::Mat makeWoodTexture(int width, int height, double texel) {
     const double y = v * texel;
     for (int u = 0; u < width; ++u) {
       const double x = u * texel;  // grain runs along x
-      // Rings: distorted by a slow and a faster warp, their spacing varying.
+      // Rings 8 mm apart, distorted by a slow and a faster warp (which also
+      // bends them into the eyes of cut growth rings).
       const double warp = 2.5 * fbm(x / 0.25, y / 0.06, 3, 53u) + 0.6 * fbm(x / 0.03, y / 0.01, 2, 67u);
-      double g = 105.0 + 16.0 * std::sin(2 * M_PI * (y / (0.008 + 0.003 * valueNoise(x / 0.3, y / 0.3, 71u)) + warp));
+      double g = 105.0 + 16.0 * std::sin(2 * M_PI * (y / 0.008 + warp));
       g += 7.0 * fbm(x / 0.04, y / 0.0015, 3, 59u);  // fine grain, stretched along x
       g += 6.0 * fbm(x / 0.15, y / 0.15, 2, 61u);    // slow colour variation
       row[u] = static_cast<float>(g);
