@@ -100,8 +100,8 @@ struct TrajectorySample {
   Eigen::Vector3d omega_c = Eigen::Vector3d::Zero();  // angular velocity, camera frame
 };
 
-// Smooth analytic orbit/pan around the globe, always looking roughly at it.
-// Derivatives by central differences of the analytic pose (error < 1e-6).
+// Smooth analytic orbit/pan around the globe, always looking roughly at it
+// (globe_orbit.hpp); exact derivatives.
 class Trajectory {
  public:
   explicit Trajectory(const GlobeScene& scene) : centre_(scene.centre), radius_(scene.radius) {}

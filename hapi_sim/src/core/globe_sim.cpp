@@ -1,4 +1,6 @@
 #include "hapi_sim/globe_sim.hpp"
+#include "hapi_sim/globe_orbit.hpp"
+#include "hapi_sim/motion.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -179,39 +181,27 @@ bool isVisible(const Eigen::Vector3d& X_w, const Pose& T_wc, const GlobeScene& s
 }
 
 // ---------------------------------------------------------------- trajectory
+// The orbit is written once (globe_orbit.hpp); its derivatives are exact (Jet2).
 Pose Trajectory::pose(double t) const {
-  const double TWO_PI = 2 * M_PI;
-  const double dist = 0.55 + 0.07 * std::sin(TWO_PI * t / 13.0);
-  const double az = -M_PI / 2 + 0.8 * std::sin(TWO_PI * t / 24.0) + 0.1 * std::sin(TWO_PI * t / 7.0);
-  const double el = 0.3 * std::sin(TWO_PI * t / 17.0 + 0.4);
-  const Eigen::Vector3d c = centre_ + dist * Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-  const Eigen::Vector3d target = centre_ + 0.25 * radius_ *
-      Eigen::Vector3d(std::sin(TWO_PI * t / 9.0), std::cos(TWO_PI * t / 11.0), 0.6 * std::sin(TWO_PI * t / 5.0 + 1.0));
-  const Eigen::Vector3d up(0, 0, 1);
-  const Eigen::Vector3d z = (target - c).normalized();
-  const Eigen::Vector3d x0 = z.cross(up).normalized();
-  const Eigen::Vector3d y0 = z.cross(x0);
-  const double roll = 0.12 * std::sin(TWO_PI * t / 10.0);
-  const Eigen::Vector3d x = std::cos(roll) * x0 + std::sin(roll) * y0;
-  const Eigen::Vector3d y = z.cross(x);
+  const PoseT<double> P = globeOrbitPose(t, V3<double>(centre_), radius_);
   Eigen::Matrix3d R;
-  R.col(0) = x; R.col(1) = y; R.col(2) = z;
-  Pose P;
-  P.q = Eigen::Quaterniond(R).normalized();
-  P.p = c;
-  return P;
+  R.col(0) = Eigen::Vector3d(P.R.c0.x, P.R.c0.y, P.R.c0.z);
+  R.col(1) = Eigen::Vector3d(P.R.c1.x, P.R.c1.y, P.R.c1.z);
+  R.col(2) = Eigen::Vector3d(P.R.c2.x, P.R.c2.y, P.R.c2.z);
+  Pose out;
+  out.q = Eigen::Quaterniond(R).normalized();
+  out.p = Eigen::Vector3d(P.p.x, P.p.y, P.p.z);
+  return out;
 }
 
 TrajectorySample Trajectory::at(double t) const {
+  const MotionSample m = motionFromJets(t, globeOrbitPose(Jet2::time(t), V3<Jet2>(centre_), radius_));
   TrajectorySample s;
   s.t = t;
   s.T_wc = pose(t);
-  const double h = 1e-4, h2 = 1e-3;
-  const Pose pm = pose(t - h), pp = pose(t + h);
-  s.v_w = (pp.p - pm.p) / (2 * h);
-  s.a_w = (pose(t + h2).p - 2 * s.T_wc.p + pose(t - h2).p) / (h2 * h2);
-  const Eigen::AngleAxisd aa(pm.q.conjugate() * pp.q);
-  s.omega_c = aa.axis() * aa.angle() / (2 * h);
+  s.v_w = m.v;
+  s.a_w = m.a;
+  s.omega_c = m.omega;
   return s;
 }
 

@@ -35,18 +35,19 @@
 #include <string>
 
 #include "hapi_sim/globe_sim.hpp"
+#include "bag_messages.hpp"
 
 namespace {
 
 using hapi_sim::CameraInfoData;
 using hapi_sim::Pose;
+using hapi_sim::stampAt;
 
 constexpr const char* kWorld = "world";
 constexpr const char* kLeft = "stereo_left_optical_frame";
 constexpr const char* kRight = "stereo_right_optical_frame";
 constexpr const char* kImu = "imu_link";
 constexpr const char* kGt = "ground_truth/stereo_left_optical_frame";
-constexpr int64_t kEpochSec = 1000000000;  // first stamp: fixed, never wall time
 
 // IMU model (a consumer MEMS part, BMI088-class): white noise densities,
 // turn-on bias (constant per seed) and bias random walk.
@@ -80,12 +81,9 @@ struct Options {
 
 double parseDouble(const std::string& key, const std::string& v) {
   try {
-    size_t n = 0;
-    const double d = std::stod(v, &n);
-    if (n != v.size() || !std::isfinite(d)) throw std::invalid_argument(v);
-    return d;
-  } catch (const std::exception&) {
-    usage("invalid number for " + key + ": '" + v + "'");
+    return hapi_sim::parseNumberArg(key, v);
+  } catch (const std::invalid_argument& e) {
+    usage(e.what());
   }
 }
 
@@ -115,73 +113,6 @@ Options parse(int argc, char** argv) {
   if (!(o.rate > 0 && o.rate <= 100)) usage("--rate must be in (0, 100] Hz");
   if (!(o.noise >= 0 && o.noise <= 50)) usage("--noise must be in [0, 50] grey levels");
   return o;
-}
-
-ros::Time stampAt(int64_t ns) {
-  // Integer nanoseconds: no floating-point rounding in the stamps.
-  const int64_t total = kEpochSec * 1000000000LL + ns;
-  return ros::Time(static_cast<uint32_t>(total / 1000000000LL), static_cast<uint32_t>(total % 1000000000LL));
-}
-
-sensor_msgs::CameraInfo toMsg(const CameraInfoData& d, const std_msgs::Header& h) {
-  sensor_msgs::CameraInfo m;
-  m.header = h;
-  m.width = d.width;
-  m.height = d.height;
-  m.distortion_model = d.distortion_model;
-  m.D = d.D;
-  for (int i = 0; i < 9; ++i) { m.K[i] = d.K[i]; m.R[i] = d.R[i]; }
-  for (int i = 0; i < 12; ++i) m.P[i] = d.P[i];
-  return m;
-}
-
-sensor_msgs::Image toMsg(const cv::Mat& mono, const std_msgs::Header& h) {
-  sensor_msgs::Image m;
-  m.header = h;
-  m.height = mono.rows;
-  m.width = mono.cols;
-  m.encoding = "mono8";
-  m.is_bigendian = 0;
-  m.step = mono.cols;
-  m.data.resize(static_cast<size_t>(mono.rows) * mono.cols);
-  for (int r = 0; r < mono.rows; ++r)
-    std::copy(mono.ptr<uint8_t>(r), mono.ptr<uint8_t>(r) + mono.cols, m.data.begin() + static_cast<size_t>(r) * mono.cols);
-  return m;
-}
-
-geometry_msgs::TransformStamped transform(const ros::Time& t, const std::string& parent, const std::string& child,
-                                          const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
-  geometry_msgs::TransformStamped tf;
-  tf.header.stamp = t;
-  tf.header.frame_id = parent;
-  tf.child_frame_id = child;
-  tf.transform.translation.x = p.x();
-  tf.transform.translation.y = p.y();
-  tf.transform.translation.z = p.z();
-  tf.transform.rotation.x = q.x();
-  tf.transform.rotation.y = q.y();
-  tf.transform.rotation.z = q.z();
-  tf.transform.rotation.w = q.w();
-  return tf;
-}
-
-// Latched connections (tf_static, globe info) need an explicit connection
-// header so that `rosbag play` re-advertises them latched.
-template <class M>
-boost::shared_ptr<ros::M_string> latchedHeader() {
-  auto h = boost::make_shared<ros::M_string>();
-  (*h)["type"] = ros::message_traits::datatype<M>();
-  (*h)["md5sum"] = ros::message_traits::md5sum<M>();
-  (*h)["message_definition"] = ros::message_traits::definition<M>();
-  (*h)["callerid"] = "/make_globe_bag";
-  (*h)["latching"] = "1";
-  return h;
-}
-
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
 }
 
 }  // namespace
@@ -214,21 +145,13 @@ int main(int argc, char** argv) {
   // Static part, once at the start (latched).
   {
     tf2_msgs::TFMessage st;
-    st.transforms.push_back(transform(t0, kLeft, kRight, Eigen::Vector3d(rig.baseline, 0, 0), Eigen::Quaterniond::Identity()));
-    if (opt.imu) st.transforms.push_back(transform(t0, kLeft, kImu, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity()));
-    bag.write("/tf_static", t0, st, latchedHeader<tf2_msgs::TFMessage>());
+    st.transforms.push_back(hapi_sim::toTransformMsg(t0, kLeft, kRight, Eigen::Vector3d(rig.baseline, 0, 0), Eigen::Quaterniond::Identity()));
+    if (opt.imu) st.transforms.push_back(hapi_sim::toTransformMsg(t0, kLeft, kImu, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity()));
+    bag.write("/tf_static", t0, st, hapi_sim::latchedHeader<tf2_msgs::TFMessage>("/make_globe_bag"));
   }
   std_msgs::String info;
-  {
-    std::ostringstream y;
-    y << "radius: " << fmt(scene.radius) << "\n"
-      << "centre: [" << fmt(scene.centre.x()) << ", " << fmt(scene.centre.y()) << ", " << fmt(scene.centre.z()) << "]\n"
-      << "frame_id: " << kWorld << "\n"
-      << "seed: " << opt.seed << "\n"
-      << "texture: \"" << scene.texture_source << "\"\n";
-    info.data = y.str();
-  }
-  const auto info_header = latchedHeader<std_msgs::String>();
+  info.data = hapi_sim::globeInfoYaml(scene.radius, scene.centre, kWorld, opt.seed, scene.texture_source);
+  const auto info_header = hapi_sim::latchedHeader<std_msgs::String>("/make_globe_bag");
 
   const hapi_sim::Renderer ren_l(scene, rig.left, 2), ren_r(scene, rig.right, 2);
   const CameraInfoData ci_l = rig.leftInfo(), ci_r = rig.rightInfo();
@@ -287,7 +210,7 @@ int main(int argc, char** argv) {
     gt.pose.orientation.z = Pl.q.z(); gt.pose.orientation.w = Pl.q.w();
     bag.write("/ground_truth/pose", stamp, gt);
     tf2_msgs::TFMessage tfm;
-    tfm.transforms.push_back(transform(stamp, kWorld, kGt, Pl.p, Pl.q));
+    tfm.transforms.push_back(hapi_sim::toTransformMsg(stamp, kWorld, kGt, Pl.p, Pl.q));
     bag.write("/tf", stamp, tfm);
 
     std_msgs::Header hl, hr;
@@ -295,12 +218,12 @@ int main(int argc, char** argv) {
     hl.frame_id = kLeft;
     hr.frame_id = kRight;
     hl.seq = hr.seq = static_cast<uint32_t>(k);
-    bag.write("/stereo/left/camera_info", stamp, toMsg(ci_l, hl));
-    bag.write("/stereo/right/camera_info", stamp, toMsg(ci_r, hr));
+    bag.write("/stereo/left/camera_info", stamp, hapi_sim::toCameraInfoMsg(ci_l, hl));
+    bag.write("/stereo/right/camera_info", stamp, hapi_sim::toCameraInfoMsg(ci_r, hr));
     const cv::Mat il = ren_l.render(Pl, hapi_sim::mixSeed(opt.seed, static_cast<uint32_t>(k), 0), opt.noise);
     const cv::Mat ir = ren_r.render(Pr, hapi_sim::mixSeed(opt.seed, static_cast<uint32_t>(k), 1), opt.noise);
-    bag.write("/stereo/left/image_raw", stamp, toMsg(il, hl));
-    bag.write("/stereo/right/image_raw", stamp, toMsg(ir, hr));
+    bag.write("/stereo/left/image_raw", stamp, hapi_sim::toImageMsg(il, hl));
+    bag.write("/stereo/right/image_raw", stamp, hapi_sim::toImageMsg(ir, hr));
     ++next_frame;
     if (next_frame % 10 == 0 || next_frame == n_frames)
       std::cerr << "[make_globe_bag] frame " << next_frame << "/" << n_frames << "\n";

@@ -1,0 +1,110 @@
+// hapi_sim: one simulated hand-held stereo + IMU recording (the suite's
+// scenario): a scene, the device's motion and the scene's motion, the stereo
+// rig, the camera-IMU extrinsic and time offset, image formation and the IMU
+// model. ROS-free; make_sim_bag and the ASL writer both read it.
+//
+// Frames and clocks (docs/DESIGN.md "Data"):
+//  * inertial frame: gravity along -z; the device's IMU moves in it.
+//  * scene frame = ground-truth "world": the scene's geometry is fixed in it;
+//    it equals the inertial frame except in the subject-motion scenario.
+//  * true time = the IMU clock, 0 at the first IMU sample. Frame k is exposed
+//    around true time k / rate (mid-exposure); its camera stamp is
+//    t_cam = t_imu - time_offset (Kalibr: t_imu = t_cam + timeshift_cam_imu),
+//    i.e. with the default offset of -3 ms camera stamps are 3 ms late.
+#pragma once
+#include <opencv2/core.hpp>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "hapi_sim/image_formation.hpp"
+#include "hapi_sim/imu_model.hpp"
+#include "hapi_sim/motion.hpp"
+#include "hapi_sim/scene.hpp"
+#include "hapi_sim/trajectories.hpp"
+
+namespace hapi_sim {
+
+enum class SceneKind { Globe, Skin };
+bool parseSceneKind(const std::string& name, SceneKind* kind);
+
+// First stamp of every simulated recording: fixed, never wall time.
+constexpr int64_t kSimEpochNs = 1000000000LL * 1000000000LL;
+
+struct ScenarioConfig {
+  SceneKind scene = SceneKind::Skin;
+  TrajectoryKind trajectory = TrajectoryKind::Handheld;
+  uint32_t seed = 1;
+  double duration = 30.0;     // s
+  double rate = 10.0;         // stereo frames per second
+  double imu_rate = 200.0;    // Hz
+  double exposure = 0.006;    // s; motion blur over this window (0: none)
+  int blur_samples = 8;       // sub-frame renders per image (>= 4 also anti-aliases 2x2)
+  bool photometric = true;    // gain drift and steps
+  bool image_noise = true;    // shot + read noise
+  bool imu_noise = true;      // white noise, turn-on bias, bias random walk
+  bool imu_saturation = true;
+  double image_scale = 1.0;   // of the 640 x 480 rig (smaller for quick tests)
+  std::string globe_texture = "/usr/share/xplanet/images/earth.jpg";
+  // "" when valid, else what is wrong (one rule for every front end).
+  std::string validate() const;
+};
+
+// The true camera-IMU calibration of the simulated device.
+struct CameraImuCalibration {
+  Pose T_cam_imu;              // imu_link in the left optical frame: X_cam = T_cam_imu X_imu (Kalibr's T_cam_imu)
+  int64_t time_offset_ns = 0;  // t_imu = t_cam + offset (Kalibr's timeshift_cam_imu)
+  static CameraImuCalibration makeDefault();
+  std::string yaml(const ImuSpec& imu, double imu_rate) const;  // /ground_truth/calibration
+};
+
+class Scenario {
+ public:
+  explicit Scenario(const ScenarioConfig& config);
+  ~Scenario();
+  const ScenarioConfig& config() const { return cfg_; }
+  const Scene& scene() const { return *scene_; }
+  const StereoRigModel& rig() const { return rig_; }
+  const CameraImuCalibration& calibration() const { return calib_; }
+  const ImuSpec& imuSpec() const { return imu_spec_; }
+  std::string calibrationYaml() const { return calib_.yaml(imu_spec_, cfg_.imu_rate); }
+
+  int64_t frameCount() const { return n_frames_; }
+  int64_t imuCount() const { return n_imu_; }
+  int64_t frameTimeNs(int64_t k) const { return k * frame_ns_; }                     // true (IMU clock)
+  int64_t frameStampNs(int64_t k) const { return k * frame_ns_ - calib_.time_offset_ns; }  // camera clock
+  int64_t imuTimeNs(int64_t i) const { return i * imu_ns_; }
+
+  // Ground truth at true time t.
+  MotionSample leftCameraInScene(double t) const;     // what an estimator should report
+  MotionSample leftCameraInInertial(double t) const;
+  MotionSample imuInInertial(double t) const;         // EuRoC's state ground truth
+  MotionSample sceneInInertial(double t) const;
+  double gain(double t) const { return exposure_.gain(t); }
+
+  // Frame k's images (mono8), deterministic per (seed, k).
+  void renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const;
+  // A fresh IMU sample stream (call measure() in sample order).
+  ImuModel makeImuModel() const;
+
+  // Every IMU sample and every stereo frame once, in stamp order (IMU first
+  // at equal stamps, so a filter can predict up to an image's time).
+  using ImuSink = std::function<void(int64_t i, const ImuReading& reading)>;
+  using FrameSink = std::function<void(int64_t k, const cv::Mat& left, const cv::Mat& right)>;
+  void play(const ImuSink& on_imu, const FrameSink& on_frame) const;
+
+ private:
+  ScenarioConfig cfg_;
+  std::unique_ptr<Scene> scene_;
+  StereoRigModel rig_;
+  CameraImuCalibration calib_;
+  ImuSpec imu_spec_;
+  std::unique_ptr<RigidMotion> device_, scene_motion_;
+  ExposureModel exposure_;
+  SensorNoise sensor_;
+  std::unique_ptr<SceneRenderer> ren_l_, ren_r_;
+  int64_t frame_ns_ = 0, imu_ns_ = 0, n_frames_ = 0, n_imu_ = 0;
+};
+
+}  // namespace hapi_sim

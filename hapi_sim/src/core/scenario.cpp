@@ -1,0 +1,149 @@
+// Scenario: assembles one simulated recording from the catalogue and answers
+// for its timing, ground truth and sensor data (docs/DESIGN.md "Data").
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "hapi_sim/scenario.hpp"
+#include "hapi_sim/text_format.hpp"
+
+namespace hapi_sim {
+namespace {
+
+// The rig at a fraction of its resolution: focal lengths scale, the
+// principal point keeps its place in the image (pixel centres at integers).
+StereoRigModel scaledRig(double s) {
+  StereoRigModel rig = StereoRigModel::makeDefault();
+  for (CameraModel* c : {&rig.left, &rig.right}) {
+    c->width = static_cast<int>(std::lround(c->width * s));
+    c->height = static_cast<int>(std::lround(c->height * s));
+    c->fx *= s; c->fy *= s;
+    c->cx = (c->cx + 0.5) * s - 0.5;
+    c->cy = (c->cy + 0.5) * s - 0.5;
+  }
+  return rig;
+}
+
+constexpr double kRightGainRatio = 0.97;  // the right sensor is 3 % less sensitive
+
+}  // namespace
+
+bool parseSceneKind(const std::string& name, SceneKind* kind) {
+  if (name == "globe") { *kind = SceneKind::Globe; return true; }
+  if (name == "skin") { *kind = SceneKind::Skin; return true; }
+  return false;
+}
+
+std::string ScenarioConfig::validate() const {
+  if (!(duration > 0 && duration <= 3600)) return "duration must be in (0, 3600] s";
+  if (!(rate > 0 && rate <= 100)) return "rate must be in (0, 100] Hz";
+  if (!(imu_rate >= rate && imu_rate <= 2000)) return "imu rate must be in [rate, 2000] Hz";
+  if (!(exposure >= 0 && exposure < 1.0 / rate)) return "exposure must be in [0, 1/rate) s";
+  if (!(blur_samples >= 1 && blur_samples <= 64)) return "blur samples must be in [1, 64]";
+  if (!(image_scale >= 0.1 && image_scale <= 1.0)) return "image scale must be in [0.1, 1]";
+  return "";
+}
+
+CameraImuCalibration CameraImuCalibration::makeDefault() {
+  CameraImuCalibration c;
+  // IMU axes (REP-103 body: x forward, y left, z up) in the optical frame
+  // (x right, y down, z forward), then a mounting error of a few degrees.
+  Eigen::Matrix3d nominal;
+  nominal.col(0) = Eigen::Vector3d(0, 0, 1);
+  nominal.col(1) = Eigen::Vector3d(-1, 0, 0);
+  nominal.col(2) = Eigen::Vector3d(0, -1, 0);
+  const double deg = M_PI / 180.0;
+  const Eigen::Matrix3d error = (Eigen::AngleAxisd(1.5 * deg, Eigen::Vector3d::UnitX()) *
+                                 Eigen::AngleAxisd(-2.0 * deg, Eigen::Vector3d::UnitY()) *
+                                 Eigen::AngleAxisd(1.0 * deg, Eigen::Vector3d::UnitZ())).toRotationMatrix();
+  c.T_cam_imu.q = Eigen::Quaterniond(error * nominal).normalized();
+  // Lever arm: the IMU sits 3 cm right (mid-baseline), 1.2 cm above and
+  // 2.5 cm behind the left camera's optical centre.
+  c.T_cam_imu.p = Eigen::Vector3d(0.03, -0.012, -0.025);
+  c.time_offset_ns = -3000000;  // camera stamps 3 ms late
+  return c;
+}
+
+std::string CameraImuCalibration::yaml(const ImuSpec& imu, double imu_rate) const {
+  std::ostringstream y;
+  y << "# X_cam = T_cam_imu * X_imu (Kalibr's T_cam_imu): imu_link in stereo_left_optical_frame, 4x4 row-major\n"
+    << "T_cam_imu: [" << formatMatrix4(T_cam_imu) << "]\n"
+    << "# t_imu = t_cam + time_offset_s (Kalibr's timeshift_cam_imu); negative: camera stamps are late\n"
+    << "time_offset_s: " << formatNumber(time_offset_ns * 1e-9) << "\n"
+    << "cam_frame_id: stereo_left_optical_frame\n"
+    << "imu_frame_id: imu_link\n"
+    << "imu_part: " << imu.part << "\n"
+    << "imu_rate_hz: " << formatNumber(imu_rate) << "\n"
+    << "gyroscope_noise_density: " << formatNumber(imu.gyro_noise_density) << "  # rad/s/sqrt(Hz)\n"
+    << "gyroscope_random_walk: " << formatNumber(imu.gyro_random_walk) << "  # rad/s^2/sqrt(Hz)\n"
+    << "accelerometer_noise_density: " << formatNumber(imu.accel_noise_density) << "  # m/s^2/sqrt(Hz)\n"
+    << "accelerometer_random_walk: " << formatNumber(imu.accel_random_walk) << "  # m/s^3/sqrt(Hz)\n"
+    << "gravity: " << formatNumber(kGravity) << "  # m/s^2 along -z of the inertial frame\n";
+  return y.str();
+}
+
+Scenario::Scenario(const ScenarioConfig& config)
+    : cfg_(config),
+      scene_(config.scene == SceneKind::Globe ? makeGlobeSimScene(config.globe_texture) : makeSkinScene()),
+      rig_(scaledRig(config.image_scale)),
+      calib_(CameraImuCalibration::makeDefault()),
+      imu_spec_(ImuSpec::adis16448()),
+      device_(makeDeviceMotion(config.trajectory, scene_->view(), config.seed)),
+      scene_motion_(makeSceneMotion(config.trajectory, scene_->view(), config.seed)),
+      exposure_(config.seed, config.photometric) {
+  sensor_.enabled = config.image_noise;
+  ren_l_ = std::make_unique<SceneRenderer>(*scene_, rig_.left);
+  ren_r_ = std::make_unique<SceneRenderer>(*scene_, rig_.right);
+  frame_ns_ = std::llround(1e9 / cfg_.rate);
+  imu_ns_ = std::llround(1e9 / cfg_.imu_rate);
+  n_frames_ = std::max<int64_t>(1, static_cast<int64_t>(std::floor(cfg_.duration * cfg_.rate + 1e-9)));
+  n_imu_ = static_cast<int64_t>(std::floor(cfg_.duration * cfg_.imu_rate + 1e-9));
+}
+
+Scenario::~Scenario() = default;
+
+MotionSample Scenario::leftCameraInInertial(double t) const { return device_->sample(t); }
+MotionSample Scenario::sceneInInertial(double t) const { return scene_motion_->sample(t); }
+MotionSample Scenario::leftCameraInScene(double t) const {
+  return relativeMotion(sceneInInertial(t), leftCameraInInertial(t));
+}
+MotionSample Scenario::imuInInertial(double t) const { return attachedFrame(leftCameraInInertial(t), calib_.T_cam_imu); }
+
+void Scenario::renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const {
+  const double t = frameTimeNs(k) * 1e-9, e = cfg_.exposure;
+  const int n = cfg_.blur_samples;
+  std::vector<Pose> pl, pr;
+  for (int j = 0; j < n; ++j) {
+    const Pose P = leftCameraInScene(t - 0.5 * e + (j + 0.5) * e / n).pose();
+    pl.push_back(P);
+    pr.push_back(rig_.rightPose(P));
+  }
+  const double g = gain(t);
+  const uint32_t frame = static_cast<uint32_t>(k);
+  *left = sensor_.expose(ren_l_->radiance(pl), g, mixSeed(cfg_.seed, frame, 0));
+  *right = sensor_.expose(ren_r_->radiance(pr), g * kRightGainRatio, mixSeed(cfg_.seed, frame, 1));
+}
+
+ImuModel Scenario::makeImuModel() const {
+  return ImuModel(imu_spec_, cfg_.imu_rate, cfg_.seed, cfg_.imu_noise, cfg_.imu_saturation);
+}
+
+void Scenario::play(const ImuSink& on_imu, const FrameSink& on_frame) const {
+  ImuModel imu = makeImuModel();
+  int64_t next_frame = 0, next_imu = 0;
+  while (next_frame < n_frames_ || next_imu < n_imu_) {
+    const int64_t tf = next_frame < n_frames_ ? frameStampNs(next_frame) : INT64_MAX;
+    const int64_t ti = next_imu < n_imu_ ? imuTimeNs(next_imu) : INT64_MAX;
+    if (ti <= tf) {
+      on_imu(next_imu, imu.measure(imuInInertial(ti * 1e-9)));
+      ++next_imu;
+    } else {
+      cv::Mat l, r;
+      renderStereo(next_frame, &l, &r);
+      on_frame(next_frame, l, r);
+      ++next_frame;
+    }
+  }
+}
+
+}  // namespace hapi_sim

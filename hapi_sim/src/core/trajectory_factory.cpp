@@ -1,0 +1,34 @@
+// The scenario catalogue by name: which device motion and which scene motion
+// each --trajectory means.
+#include "hapi_sim/trajectories.hpp"
+
+namespace hapi_sim {
+namespace {
+const char* const kNames[] = {"smooth", "handheld", "fast", "loop", "subject"};
+}
+
+bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind) {
+  for (int i = 0; i < 5; ++i)
+    if (name == kNames[i]) { *kind = static_cast<TrajectoryKind>(i); return true; }
+  return false;
+}
+
+std::string trajectoryName(TrajectoryKind kind) { return kNames[static_cast<int>(kind)]; }
+
+std::unique_ptr<RigidMotion> makeDeviceMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed) {
+  switch (kind) {
+    case TrajectoryKind::Smooth: return makeSmoothTrajectory(view);
+    case TrajectoryKind::Handheld: return makeHandheldTrajectory(view, seed);
+    case TrajectoryKind::Fast: return makeFastTrajectory(view, seed);
+    case TrajectoryKind::Loop: return makeLoopTrajectory(view, seed);
+    case TrajectoryKind::Subject: return makeStillTrajectory(view, seed);
+  }
+  return nullptr;
+}
+
+std::unique_ptr<RigidMotion> makeSceneMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed) {
+  if (kind == TrajectoryKind::Subject) return makeSubjectSceneMotion(view, seed);
+  return std::make_unique<StaticMotion>();
+}
+
+}  // namespace hapi_sim

@@ -1,0 +1,241 @@
+// make_sim_bag: writes one scenario of the hand-held simulation suite
+// (docs/DESIGN.md "Data") to a rosbag and/or a EuRoC/ASL folder.
+//
+//   make_sim_bag --scene globe|skin --trajectory smooth|handheld|fast|loop|subject
+//                [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]
+//                [--output FILE.bag] [--asl DIR]
+//                [--exposure-ms MS] [--blur-samples N] [--photometric 0|1]
+//                [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]
+//
+// Topics (frames as make_globe_bag's; every stamp from the fixed epoch 1e9 s):
+//   /stereo/{left,right}/image_raw, camera_info  camera clock (t_imu - time offset)
+//   /imu/data              sensor_msgs/Imu in imu_link, IMU rate, covariances of the noise model
+//   /tf_static             left -> right optical, left optical -> imu_link (the true extrinsic)
+//   /tf                    world -> ground_truth/stereo_left_optical_frame at each frame's true time
+//   /ground_truth/pose     the same as PoseStamped
+//   /ground_truth/odometry nav_msgs/Odometry at IMU rate: the left camera in world (the scene
+//                          frame), twist in the child frame (REP-105)
+//   /ground_truth/imu_odometry  the IMU in the inertial frame "inertial", IMU rate (equals world
+//                          except in the subject-motion scenario, where the scene moves)
+//   /ground_truth/scene    latched YAML of the scene's surfaces in world
+//   /ground_truth/calibration  latched YAML: T_cam_imu, time_offset_s and its sign, IMU noise
+//   /globe/info            (globe scene) latched, 1 Hz, as make_globe_bag
+// Ground truth is stamped in the true (IMU) clock. Same arguments -> the same
+// bytes (rosbag writes no wall-clock time).
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/Imu.h>
+#include <std_msgs/String.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "bag_messages.hpp"
+#include "hapi_sim/asl_writer.hpp"
+#include "hapi_sim/scenario.hpp"
+
+namespace {
+
+using namespace hapi_sim;
+
+constexpr const char* kWorld = "world";
+constexpr const char* kInertial = "inertial";
+constexpr const char* kLeft = "stereo_left_optical_frame";
+constexpr const char* kRight = "stereo_right_optical_frame";
+constexpr const char* kImu = "imu_link";
+constexpr const char* kGt = "ground_truth/stereo_left_optical_frame";
+constexpr const char* kGtImu = "ground_truth/imu_link";
+constexpr const char* kCaller = "/make_sim_bag";
+
+struct Options {
+  ScenarioConfig cfg;
+  std::string output, asl;
+  bool have_scene = false, have_trajectory = false;
+};
+
+[[noreturn]] void usage(const std::string& err) {
+  std::cerr << "make_sim_bag: " << err << "\n"
+            << "usage: make_sim_bag --scene globe|skin --trajectory smooth|handheld|fast|loop|subject\n"
+            << "                    [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]\n"
+            << "                    [--output FILE.bag] [--asl DIR] [--exposure-ms MS] [--blur-samples N]\n"
+            << "                    [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1]\n"
+            << "                    [--image-scale S] [--texture PATH]\n";
+  std::exit(2);
+}
+
+double number(const std::string& k, const std::string& v) {
+  try {
+    return parseNumberArg(k, v);
+  } catch (const std::invalid_argument& e) {
+    usage(e.what());
+  }
+}
+
+bool flag(const std::string& k, const std::string& v) {
+  if (v != "0" && v != "1") usage(k + " must be 0 or 1");
+  return v == "1";
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if (k == "-h" || k == "--help") usage("help");
+    if (i + 1 >= argc) usage("missing value for " + k);
+    const std::string v = argv[++i];
+    if (k == "--scene") {
+      if (!parseSceneKind(v, &o.cfg.scene)) usage("--scene must be globe or skin");
+      o.have_scene = true;
+    } else if (k == "--trajectory") {
+      if (!parseTrajectoryKind(v, &o.cfg.trajectory)) usage("--trajectory must be smooth, handheld, fast, loop or subject");
+      o.have_trajectory = true;
+    } else if (k == "--seed") {
+      const double s = number(k, v);
+      if (s < 0 || s > 4294967295.0 || s != std::floor(s)) usage("--seed must be an integer in [0, 2^32)");
+      o.cfg.seed = static_cast<uint32_t>(s);
+    } else if (k == "--duration") o.cfg.duration = number(k, v);
+    else if (k == "--rate") o.cfg.rate = number(k, v);
+    else if (k == "--imu-rate") o.cfg.imu_rate = number(k, v);
+    else if (k == "--output") o.output = v;
+    else if (k == "--asl") o.asl = v;
+    else if (k == "--exposure-ms") o.cfg.exposure = 1e-3 * number(k, v);
+    else if (k == "--blur-samples") {
+      const double n = number(k, v);
+      if (n != std::floor(n)) usage("--blur-samples must be an integer");
+      o.cfg.blur_samples = static_cast<int>(std::max(-1.0, std::min(n, 1000.0)));
+    } else if (k == "--photometric") o.cfg.photometric = flag(k, v);
+    else if (k == "--image-noise") o.cfg.image_noise = flag(k, v);
+    else if (k == "--imu-noise") o.cfg.imu_noise = flag(k, v);
+    else if (k == "--image-scale") o.cfg.image_scale = number(k, v);
+    else if (k == "--texture") o.cfg.globe_texture = v;
+    else usage("unknown option " + k);
+  }
+  if (!o.have_scene || !o.have_trajectory) usage("--scene and --trajectory are required");
+  if (o.output.empty() && o.asl.empty()) usage("give --output FILE.bag and/or --asl DIR");
+  const std::string err = o.cfg.validate();
+  if (!err.empty()) usage(err);
+  return o;
+}
+
+std_msgs::String text(const std::string& s) {
+  std_msgs::String m;
+  m.data = s;
+  return m;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options opt = parse(argc, argv);
+  const Scenario sc(opt.cfg);
+  const bool globe = opt.cfg.scene == SceneKind::Globe;
+  std::cerr << "[make_sim_bag] scene " << sc.scene().name() << ", trajectory " << trajectoryName(opt.cfg.trajectory)
+            << ", seed " << opt.cfg.seed << ": " << sc.frameCount() << " stereo frames at " << opt.cfg.rate << " Hz, "
+            << sc.imuCount() << " IMU samples at " << opt.cfg.imu_rate << " Hz\n";
+
+  std::unique_ptr<rosbag::Bag> bag;
+  if (!opt.output.empty()) {
+    bag = std::make_unique<rosbag::Bag>();
+    try {
+      bag->open(opt.output, rosbag::bagmode::Write);
+    } catch (const rosbag::BagException& e) {
+      std::cerr << "make_sim_bag: cannot open '" << opt.output << "' for writing: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  std::unique_ptr<AslWriter> asl;
+  try {
+    if (!opt.asl.empty()) asl = std::make_unique<AslWriter>(opt.asl, sc);
+  } catch (const std::exception& e) {
+    std::cerr << "make_sim_bag: " << e.what() << "\n";
+    return 1;
+  }
+
+  const ros::Time t0 = stampAt(0);
+  const CameraImuCalibration& cal = sc.calibration();
+  const std_msgs::String globe_info =
+      text(globeInfoYaml(sc.scene().surfaces()[0].radius, sc.scene().surfaces()[0].centre, kWorld, opt.cfg.seed,
+                         sc.scene().textureSource()));
+  if (bag) {
+    tf2_msgs::TFMessage st;
+    st.transforms.push_back(toTransformMsg(t0, kLeft, kRight, Eigen::Vector3d(sc.rig().baseline, 0, 0),
+                                           Eigen::Quaterniond::Identity()));
+    st.transforms.push_back(toTransformMsg(t0, kLeft, kImu, cal.T_cam_imu.p, cal.T_cam_imu.q));
+    bag->write("/tf_static", t0, st, latchedHeader<tf2_msgs::TFMessage>(kCaller));
+    bag->write("/ground_truth/scene", t0, text(sc.scene().yaml()), latchedHeader<std_msgs::String>(kCaller));
+    bag->write("/ground_truth/calibration", t0, text(sc.calibrationYaml()), latchedHeader<std_msgs::String>(kCaller));
+  }
+  const CameraInfoData ci_l = sc.rig().leftInfo(), ci_r = sc.rig().rightInfo();
+  ImuModel imu_model = sc.makeImuModel();
+  const double sg2 = std::pow(imu_model.gyroSigma(), 2), sa2 = std::pow(imu_model.accelSigma(), 2);
+  const int64_t frames_per_second = std::max<int64_t>(1, std::llround(opt.cfg.rate));
+
+  try {
+    sc.play(
+        [&](int64_t i, const ImuReading& r) {
+          if (asl) asl->addImu(i, r);
+          if (!bag) return;
+          const int64_t ns = sc.imuTimeNs(i);
+          const ros::Time stamp = stampAt(ns);
+          sensor_msgs::Imu m;
+          m.header.stamp = stamp;
+          m.header.frame_id = kImu;
+          m.orientation_covariance[0] = -1.0;  // no orientation estimate (REP-145)
+          m.angular_velocity.x = r.gyro.x(); m.angular_velocity.y = r.gyro.y(); m.angular_velocity.z = r.gyro.z();
+          m.linear_acceleration.x = r.accel.x(); m.linear_acceleration.y = r.accel.y(); m.linear_acceleration.z = r.accel.z();
+          for (int a = 0; a < 3; ++a) {
+            m.angular_velocity_covariance[4 * a] = sg2;
+            m.linear_acceleration_covariance[4 * a] = sa2;
+          }
+          bag->write("/imu/data", stamp, m);
+          const double t = ns * 1e-9;
+          bag->write("/ground_truth/odometry", stamp, toOdometryMsg(stamp, kWorld, kGt, sc.leftCameraInScene(t)));
+          bag->write("/ground_truth/imu_odometry", stamp, toOdometryMsg(stamp, kInertial, kGtImu, sc.imuInInertial(t)));
+        },
+        [&](int64_t k, const cv::Mat& left, const cv::Mat& right) {
+          if (asl) asl->addFrame(k, left, right);
+          if (bag) {
+            const ros::Time stamp = stampAt(sc.frameStampNs(k));
+            const ros::Time truth_stamp = stampAt(sc.frameTimeNs(k));
+            if (globe && k % frames_per_second == 0)
+              bag->write("/globe/info", stamp, globe_info, latchedHeader<std_msgs::String>(kCaller));
+            const Pose P = sc.leftCameraInScene(sc.frameTimeNs(k) * 1e-9).pose();
+            geometry_msgs::PoseStamped gt;
+            gt.header.stamp = truth_stamp;
+            gt.header.frame_id = kWorld;
+            gt.pose.position.x = P.p.x(); gt.pose.position.y = P.p.y(); gt.pose.position.z = P.p.z();
+            gt.pose.orientation.x = P.q.x(); gt.pose.orientation.y = P.q.y();
+            gt.pose.orientation.z = P.q.z(); gt.pose.orientation.w = P.q.w();
+            bag->write("/ground_truth/pose", truth_stamp, gt);
+            tf2_msgs::TFMessage tfm;
+            tfm.transforms.push_back(toTransformMsg(truth_stamp, kWorld, kGt, P.p, P.q));
+            bag->write("/tf", truth_stamp, tfm);
+            std_msgs::Header hl, hr;
+            hl.stamp = hr.stamp = stamp;
+            hl.frame_id = kLeft;
+            hr.frame_id = kRight;
+            hl.seq = hr.seq = static_cast<uint32_t>(k);
+            bag->write("/stereo/left/camera_info", stamp, toCameraInfoMsg(ci_l, hl));
+            bag->write("/stereo/right/camera_info", stamp, toCameraInfoMsg(ci_r, hr));
+            bag->write("/stereo/left/image_raw", stamp, toImageMsg(left, hl));
+            bag->write("/stereo/right/image_raw", stamp, toImageMsg(right, hr));
+          }
+          if ((k + 1) % 10 == 0 || k + 1 == sc.frameCount())
+            std::cerr << "[make_sim_bag] frame " << k + 1 << "/" << sc.frameCount() << "\n";
+        });
+    if (asl) asl->close();
+  } catch (const std::exception& e) {
+    std::cerr << "make_sim_bag: " << e.what() << "\n";
+    return 1;
+  }
+  if (bag) bag->close();
+  std::cerr << "[make_sim_bag] done:" << (opt.output.empty() ? "" : " " + opt.output)
+            << (opt.asl.empty() ? "" : " " + opt.asl) << "\n";
+  return 0;
+}

@@ -1,0 +1,224 @@
+// make_sim_bag end to end on short, low-resolution runs: determinism of the
+// whole file, the topic list with types, counts, stamps (camera stamps 3 ms
+// late) and latching, the true extrinsic on /tf_static, the scene and
+// calibration YAML, ground-truth odometry twist against its own poses, the
+// IMU against the IMU ground truth, and the --asl folder written alongside.
+#include <geometry_msgs/PoseStamped.h>
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <std_msgs/String.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unistd.h>
+
+#include "hapi_sim/scenario.hpp"
+
+#ifndef MAKE_SIM_BAG
+#error "MAKE_SIM_BAG (path of the generator) must be defined by the build"
+#endif
+
+using namespace hapi_sim;
+
+namespace {
+
+std::string tmp(const std::string& name) { return "/tmp/hapi_sim_sim_bag_test_" + std::to_string(::getpid()) + "_" + name; }
+
+void generate(const std::string& args) {
+  const std::string cmd = std::string(MAKE_SIM_BAG) + " --duration 1 --image-scale 0.25 --blur-samples 4 " + args + " 2>/dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+}
+
+std::string fileBytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+struct BagData {
+  std::map<std::string, std::string> types;
+  std::map<std::string, int> counts;
+  std::map<std::string, bool> latched;
+  std::vector<sensor_msgs::Image> left, right;
+  std::vector<geometry_msgs::PoseStamped> gt;
+  std::vector<nav_msgs::Odometry> odom, imu_odom;
+  std::vector<sensor_msgs::Imu> imu;
+  std::vector<tf2_msgs::TFMessage> tf_static;
+  std::map<std::string, std::string> text;
+};
+
+BagData readBag(const std::string& path) {
+  BagData d;
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  rosbag::View view(bag);
+  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
+    d.types[c->topic] = c->datatype;
+    d.latched[c->topic] = c->header && c->header->count("latching") && c->header->at("latching") == "1";
+  }
+  for (const rosbag::MessageInstance& m : view) {
+    const std::string& t = m.getTopic();
+    d.counts[t]++;
+    if (t == "/stereo/left/image_raw") d.left.push_back(*m.instantiate<sensor_msgs::Image>());
+    else if (t == "/stereo/right/image_raw") d.right.push_back(*m.instantiate<sensor_msgs::Image>());
+    else if (t == "/ground_truth/pose") d.gt.push_back(*m.instantiate<geometry_msgs::PoseStamped>());
+    else if (t == "/ground_truth/odometry") d.odom.push_back(*m.instantiate<nav_msgs::Odometry>());
+    else if (t == "/ground_truth/imu_odometry") d.imu_odom.push_back(*m.instantiate<nav_msgs::Odometry>());
+    else if (t == "/imu/data") d.imu.push_back(*m.instantiate<sensor_msgs::Imu>());
+    else if (t == "/tf_static") d.tf_static.push_back(*m.instantiate<tf2_msgs::TFMessage>());
+    else if (m.getDataType() == "std_msgs/String") d.text[t] = m.instantiate<std_msgs::String>()->data;
+  }
+  return d;
+}
+
+Eigen::Quaterniond quat(const geometry_msgs::Quaternion& q) { return Eigen::Quaterniond(q.w, q.x, q.y, q.z); }
+Eigen::Vector3d vec(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
+Eigen::Vector3d vec(const geometry_msgs::Vector3& p) { return {p.x, p.y, p.z}; }
+
+class SimBagTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    generate("--scene skin --trajectory handheld --seed 1 --output " + tmp("a.bag") + " --asl " + tmp("asl"));
+    generate("--scene skin --trajectory handheld --seed 1 --output " + tmp("a2.bag"));
+    generate("--scene skin --trajectory handheld --seed 2 --output " + tmp("b.bag"));
+    generate("--scene globe --trajectory subject --seed 1 --output " + tmp("g.bag"));
+    skin_ = new BagData(readBag(tmp("a.bag")));
+    globe_ = new BagData(readBag(tmp("g.bag")));
+  }
+  static void TearDownTestSuite() {
+    for (const char* f : {"a.bag", "a2.bag", "b.bag", "g.bag"}) std::remove(tmp(f).c_str());
+    std::filesystem::remove_all(tmp("asl"));
+    delete skin_;
+    delete globe_;
+  }
+  static BagData *skin_, *globe_;
+};
+BagData* SimBagTest::skin_ = nullptr;
+BagData* SimBagTest::globe_ = nullptr;
+
+}  // namespace
+
+TEST_F(SimBagTest, SameSeedSameBytesOtherSeedDiffers) {
+  const std::string a = fileBytes(tmp("a.bag")), a2 = fileBytes(tmp("a2.bag")), b = fileBytes(tmp("b.bag"));
+  EXPECT_GT(a.size(), 100000u);
+  EXPECT_EQ(a, a2);
+  EXPECT_NE(a, b);
+}
+
+TEST_F(SimBagTest, TopicsTypesCountsStampsAndLatching) {
+  for (const BagData* d : {skin_, globe_}) {
+    std::map<std::string, std::string> want = {
+        {"/stereo/left/image_raw", "sensor_msgs/Image"},        {"/stereo/right/image_raw", "sensor_msgs/Image"},
+        {"/stereo/left/camera_info", "sensor_msgs/CameraInfo"},  {"/stereo/right/camera_info", "sensor_msgs/CameraInfo"},
+        {"/tf", "tf2_msgs/TFMessage"},                           {"/tf_static", "tf2_msgs/TFMessage"},
+        {"/ground_truth/pose", "geometry_msgs/PoseStamped"},     {"/imu/data", "sensor_msgs/Imu"},
+        {"/ground_truth/odometry", "nav_msgs/Odometry"},         {"/ground_truth/imu_odometry", "nav_msgs/Odometry"},
+        {"/ground_truth/scene", "std_msgs/String"},              {"/ground_truth/calibration", "std_msgs/String"}};
+    if (d == globe_) want["/globe/info"] = "std_msgs/String";
+    EXPECT_EQ(d->types, want);
+    for (const char* t : {"/stereo/left/image_raw", "/stereo/right/image_raw", "/stereo/left/camera_info",
+                          "/stereo/right/camera_info", "/tf", "/ground_truth/pose"})
+      EXPECT_EQ(d->counts.at(t), 10) << t;
+    for (const char* t : {"/imu/data", "/ground_truth/odometry", "/ground_truth/imu_odometry"})
+      EXPECT_EQ(d->counts.at(t), 200) << t;
+    for (const char* t : {"/tf_static", "/ground_truth/scene", "/ground_truth/calibration"}) {
+      EXPECT_EQ(d->counts.at(t), 1) << t;
+      EXPECT_TRUE(d->latched.at(t)) << t;
+    }
+    const ros::Time t0(1000000000, 0);
+    for (int k = 0; k < 10; ++k) {
+      EXPECT_EQ(d->left[k].header.stamp, t0 + ros::Duration(0, 100000000 * k + 3000000));  // 3 ms late
+      EXPECT_EQ(d->right[k].header.stamp, d->left[k].header.stamp);
+      EXPECT_EQ(d->gt[k].header.stamp, t0 + ros::Duration(0, 100000000 * k));             // true time
+      EXPECT_EQ(d->left[k].width, 160u);
+      EXPECT_EQ(d->left[k].header.frame_id, "stereo_left_optical_frame");
+    }
+    for (int i = 0; i < 200; ++i) {
+      EXPECT_EQ(d->imu[i].header.stamp, t0 + ros::Duration(0, 5000000 * i));
+      EXPECT_EQ(d->imu[i].header.frame_id, "imu_link");
+      EXPECT_GT(d->imu[i].angular_velocity_covariance[0], 0.0);
+      EXPECT_EQ(d->odom[i].header.frame_id, "world");
+      EXPECT_EQ(d->odom[i].child_frame_id, "ground_truth/stereo_left_optical_frame");
+      EXPECT_EQ(d->imu_odom[i].header.frame_id, "inertial");
+    }
+  }
+  EXPECT_EQ(globe_->counts.at("/globe/info"), 1);
+  EXPECT_EQ(globe_->text.at("/globe/info").rfind("radius: 0.2\ncentre: [0, 0, 0]\nframe_id: world\nseed: 1\ntexture: \"", 0), 0u);
+  EXPECT_TRUE(globe_->latched.at("/globe/info"));
+}
+
+TEST_F(SimBagTest, ExtrinsicSceneAndCalibrationYaml) {
+  const CameraImuCalibration cal = CameraImuCalibration::makeDefault();
+  ASSERT_EQ(skin_->tf_static.size(), 1u);
+  bool found = false;
+  for (const auto& t : skin_->tf_static[0].transforms)
+    if (t.child_frame_id == "imu_link") {
+      found = true;
+      EXPECT_EQ(t.header.frame_id, "stereo_left_optical_frame");
+      EXPECT_LT((vec(t.transform.translation) - cal.T_cam_imu.p).norm(), 1e-15);
+      EXPECT_LT(quat(t.transform.rotation).angularDistance(cal.T_cam_imu.q), 1e-12);
+      EXPECT_GT(cal.T_cam_imu.p.norm(), 0.02);  // a real lever arm and rotation
+      EXPECT_GT(cal.T_cam_imu.q.angularDistance(Eigen::Quaterniond::Identity()), 1.0);
+    }
+  EXPECT_TRUE(found);
+  EXPECT_EQ(skin_->text.at("/ground_truth/scene"), makeSkinScene()->yaml());
+  EXPECT_EQ(globe_->text.at("/ground_truth/scene").rfind("name: globe\nsurfaces:\n  - {type: sphere, centre: [0, 0, 0], radius: 0.2}", 0), 0u);
+  const std::string& c = skin_->text.at("/ground_truth/calibration");
+  EXPECT_NE(c.find("time_offset_s: -0.003\n"), std::string::npos);
+  EXPECT_NE(c.find("T_cam_imu: ["), std::string::npos);
+}
+
+// REP-105 twist in the child frame, checked against central differences of
+// the odometry's own poses (both the camera in world and the IMU in inertial).
+TEST_F(SimBagTest, OdometryTwistMatchesItsPoses) {
+  for (const BagData* d : {skin_, globe_})
+    for (const auto* odom : {&d->odom, &d->imu_odom})
+      for (size_t i = 1; i + 1 < odom->size(); ++i) {
+        const auto &a = (*odom)[i - 1].pose.pose, &m = (*odom)[i].pose.pose, &b = (*odom)[i + 1].pose.pose;
+        const double dt = 0.01;
+        const Eigen::Quaterniond q = quat(m.orientation);
+        const Eigen::Vector3d v = q.conjugate() * (vec(b.position) - vec(a.position)) / dt;
+        const Eigen::AngleAxisd aa(quat(a.orientation).conjugate() * quat(b.orientation));
+        const Eigen::Vector3d w = aa.axis() * aa.angle() / dt;
+        EXPECT_LT((v - vec((*odom)[i].twist.twist.linear)).norm(), 5e-3) << i;
+        EXPECT_LT((w - vec((*odom)[i].twist.twist.angular)).norm(), 2e-2) << i;
+      }
+}
+
+// Gyro = IMU angular rate; accelerometer = R^T (a - g) of the IMU ground truth.
+TEST_F(SimBagTest, ImuAgreesWithTheImuGroundTruth) {
+  const BagData& d = *globe_;  // subject motion: the IMU truth differs from the camera-in-scene truth
+  for (size_t i = 1; i + 1 < d.imu.size(); ++i) {
+    const Eigen::Quaterniond q = quat(d.imu_odom[i].pose.pose.orientation);
+    const Eigen::Vector3d w = vec(d.imu_odom[i].twist.twist.angular);
+    EXPECT_LT((vec(d.imu[i].angular_velocity) - w).norm(), 0.03) << i;  // turn-on bias + noise
+    auto v_world = [&](size_t j) {
+      return Eigen::Vector3d(quat(d.imu_odom[j].pose.pose.orientation) * vec(d.imu_odom[j].twist.twist.linear));
+    };
+    const Eigen::Vector3d a = (v_world(i + 1) - v_world(i - 1)) / 0.01;
+    const Eigen::Vector3d f = q.conjugate() * (a + Eigen::Vector3d(0, 0, kGravity));
+    EXPECT_LT((vec(d.imu[i].linear_acceleration) - f).norm(), 0.3) << i;
+  }
+}
+
+TEST_F(SimBagTest, AslFolderWrittenAlongside) {
+  const std::string m = tmp("asl") + "/mav0/";
+  int pngs = 0;
+  for (const auto& e : std::filesystem::directory_iterator(m + "cam0/data")) pngs += e.path().extension() == ".png";
+  EXPECT_EQ(pngs, 10);
+  std::ifstream f(m + "imu0/data.csv");
+  int rows = 0;
+  for (std::string l; std::getline(f, l);) ++rows;
+  EXPECT_EQ(rows, 201);
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
