@@ -382,6 +382,50 @@ TEST(InertialFilter, FollowsTheSurfaceWhenTheSceneMovesAndTheDeviceIsStill) {
   EXPECT_GT(off.rms_err, 2.0 * on.rms_err);
 }
 
+// The chained prediction (Eskf::predictStepTo) applied to C once equals the
+// single steps applied one by one: C <- F C F^T + Q on the pose rows and
+// columns, for every sample.
+TEST(InertialFilter, ChainedPredictionEqualsStepByStep) {
+  EskfSettings s = inertialSettings();
+  s.max_landmarks = 300;
+  s.max_new_landmarks = 50;
+  std::mt19937 rng(4);
+  const sim::StereoRig rig;
+  const sim::World world = sim::randomWorld(rng, 3000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
+  const sim::InertialTrajectory traj;
+  const sim::ImuNoiseModel noise;
+  const CameraExtrinsic e = sim::forwardCamera();
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, kInertialDim), e);
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  int k = 1;
+  for (; f.awaitingAlignment(); ++k) ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, 0.005 * k, 0.005, rng)), Status::kOk);
+  PoseState cam = sim::cameraOf(traj.at(f.time()), e);
+  cam.p -= sim::cameraOf(traj.at(0.0), e).p;
+  ASSERT_EQ(f.processFrame(sim::makeFrame(world, cam, rig, f.time(), 0, rng)), Status::kOk);
+  ASSERT_GT(f.numLandmarks(), 10);
+  Eigen::MatrixXd C = f.backend().denseCovariance();
+  NominalState x = f.state();
+  const auto m = makeMotionModel(s, e);
+  const int P = kInertialDim, n = static_cast<int>(C.rows());
+  for (int i = 0; i < 20; ++i, ++k) {
+    const ImuSample smp = sim::imuSample(traj, noise, 0.005 * k, 0.005, rng);
+    NominalState y;
+    PoseMat F, Q;
+    m->step(x, smp.stamp - (i == 0 ? f.time() : 0.005 * (k - 1)), &smp, &y, &F, &Q);
+    x = y;
+    Eigen::MatrixXd Fn = Eigen::MatrixXd::Identity(n, n);
+    Fn.topLeftCorner(P, P) = F;
+    C = Fn * C * Fn.transpose();
+    C.topLeftCorner(P, P) += Q;
+    ASSERT_EQ(f.addImu(smp), Status::kOk);
+  }
+  EXPECT_LT((f.poseCovariance() - C.topLeftCorner(P, P)).cwiseAbs().maxCoeff(), 1e-12 * C.cwiseAbs().maxCoeff());
+  ASSERT_EQ(f.predictTo(f.time()), Status::kOk);  // a no-op step: flushes the chained steps into the backend
+  const Eigen::MatrixXd D = f.backend().denseCovariance();
+  EXPECT_LT((D - C).cwiseAbs().maxCoeff(), 1e-12 * C.cwiseAbs().maxCoeff());
+  EXPECT_GT(C.bottomLeftCorner(n - P, P).norm(), 0.0);  // the cross block took part
+}
+
 // Bad IMU input never changes the state: non-finite samples, samples before
 // the filter time, and IMU samples to a model without IMU.
 TEST(InertialFilter, BadImuInputLeavesTheStateUnchanged) {

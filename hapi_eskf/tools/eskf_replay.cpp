@@ -12,7 +12,9 @@
 // frame are dropped. --out PREFIX writes PREFIX_estimate.tum (the filter's
 // camera pose per frame, TUM: t x y z qx qy qz qw) and, with an IMU model,
 // PREFIX_imu_rate.txt (the nodelet's IMU-rate output: t, pose as in TUM, then
-// the camera-frame linear and angular velocity), for tools/eval/evaluate.py.
+// the camera-frame linear and angular velocity) and PREFIX_covariance.txt (per
+// frame, the 6x6 pose covariance as the odometry message states it), for
+// tools/eval.
 //
 // Without overrides it runs the default EskfSettings, i.e. the tuned filter of
 // config/eskf.yaml. key=value overrides any EskfSettings field (same names as
@@ -137,13 +139,14 @@ int main(int argc, char** argv) {
   std::size_t next_imu = 0;
   PosePropagator imu_rate(s);
   std::FILE* est_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_estimate.tum").c_str(), "w");
+  std::FILE* cov_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_covariance.txt").c_str(), "w");
   std::FILE* rate_file =
       out_prefix.empty() || !use_imu ? nullptr : std::fopen((out_prefix + "_imu_rate.txt").c_str(), "w");
   auto writePose = [](std::FILE* f, double t, const PoseState& x) {
     std::fprintf(f, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", t, x.p.x(), x.p.y(), x.p.z(), x.q.x(), x.q.y(),
                  x.q.z(), x.q.w());
   };
-  int imu_rejected = 0, awaiting = 0, vision_led = 0, scene_moving = 0;
+  int imu_rejected = 0, awaiting = 0, vision_led = 0, scene_moving = 0, relocalised = 0, errors = 0;
 
   std::vector<Vec3> est, ref;
   double sum_t = 0, nis_sum = 0;
@@ -247,8 +250,16 @@ int main(int argc, char** argv) {
     if (est_file && !rep.relocalising) {
       writePose(est_file, frames[fi].stamp, eskf.pose());
       std::fprintf(est_file, "\n");
+      // The odometry message's convention (tools/eval trajectory_io.read_covariances).
+      const Mat6 C = poseCovarianceInWorldAxes(eskf.pose(), eskf.cameraCovariance());
+      std::fprintf(cov_file, "%.9f", frames[fi].stamp);
+      for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) std::fprintf(cov_file, " %.9g", C(r, c));
+      std::fprintf(cov_file, "\n");
     }
+    relocalised += rep.relocalised;
     if (use_imu && st == Status::kOk) imu_rate.rebase(eskf);
+    errors += st != Status::kOk;
     vision_led += rep.vision_led;
     scene_moving += rep.scene_moving;
     if (gtcheck)
@@ -285,6 +296,9 @@ int main(int argc, char** argv) {
     }
   }
   if (est_file) std::fclose(est_file);
+  if (cov_file) std::fclose(cov_file);
+  std::printf("events: %d relocalisations, %d frames vision-led (%d scene moving), %d frames rejected\n",
+              relocalised, vision_led, scene_moving, errors);
   if (rate_file) std::fclose(rate_file);
   if (use_imu)
     std::printf("motion model %s: %d frames waited for the gravity alignment, %d IMU samples rejected, "

@@ -53,7 +53,9 @@ class Eskf {
   Status predictTo(double stamp);
 
   // One IMU sample (IMU frame, stamp on the camera clock:
-  // imuSampleOnCameraClock). constant_velocity: kInvalidArgument (no IMU in
+  // imuSampleOnCameraClock). Its covariance step is chained with the other
+  // samples' and reaches the backend with the next frame or predictTo()
+  // (poseCovariance() includes it at once). constant_velocity: kInvalidArgument (no IMU in
   // the model). gyro and inertial: a prediction step to the sample's stamp
   // with it (motion_model.hpp predictStep); before the inertial model is
   // aligned the sample goes to the alignment window instead. kNonFinite,
@@ -95,6 +97,8 @@ class Eskf {
   // Re-detection covariance added to C_z (EskfSettings::measurement_angular_sigma).
   Mat3 redetectionCovariance(const Vec3& z) const;
   Status predictStepTo(double stamp, const ImuSample* imu);
+  Status flushPrediction();  // the chained steps into the backend's C
+  void clearPendingPrediction();
   Status align();
 
   EskfSettings settings_;
@@ -102,6 +106,10 @@ class Eskf {
   std::unique_ptr<MotionModel> model_;
   NominalState state_;
   double time_ = 0.0;
+  // Prediction steps not yet applied to the backend's C (predictStepTo):
+  // their chained transition and noise; poseCovariance() includes them.
+  PoseMat pending_F_, pending_Q_;
+  bool pending_steps_ = false;
   bool initialised_ = false;
   // Inertial model: samples collected for the gravity alignment until it is done.
   bool awaiting_alignment_ = false;

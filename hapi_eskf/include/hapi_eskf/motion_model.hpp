@@ -117,6 +117,11 @@ int poseDim(MotionModelKind kind);
 // symmetrised.
 Mat12 cameraCovariance(const MotionModel& model, const NominalState& x, const PoseMat& C);
 
+// The camera pose covariance [dp, dtheta] with the rotation error about the
+// world axes (R_wc dtheta) instead of the camera's: the convention of
+// nav_msgs/Odometry's pose covariance and of the evaluation tools.
+Mat6 poseCovarianceInWorldAxes(const PoseState& camera, const Mat12& camera_covariance);
+
 // An IMU sample as read (stamp on the IMU clock) moved to the camera clock:
 // t_cam = t_imu - imu_time_offset (settings.hpp).
 ImuSample imuSampleOnCameraClock(double imu_stamp, const Vec3& gyro, const Vec3& accel, const EskfSettings& s);

@@ -76,6 +76,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   if (initial.q.norm() < 1e-6) return Status::kInvalidArgument;
   const Status st = backend_->reset(model_->initialCovariance());
   if (st != Status::kOk) return st;
+  clearPendingPrediction();
   PoseState camera = initial;
   camera.q.normalize();
   state_ = model_->fromCamera(camera);
@@ -103,16 +104,45 @@ Status Eskf::setCameraExtrinsic(const CameraExtrinsic& extrinsic) {
   return Status::kOk;
 }
 
-// One transactional step of the model; the backend propagates C.
+// One transactional step of the model. The covariance part is deferred
+// (docs/DESIGN.md "Inertial prediction", deferred cross-covariance): the
+// steps' transitions are chained, Phi <- F Phi and Q_acc <- F Q_acc F^T + Q,
+// and applied to C in one backend call when C is next needed
+// (flushPrediction), C_pp <- Phi C_pp Phi^T + Q_acc and C_pm <- Phi C_pm:
+// exactly the sequence of single steps, but the O(K) cross-block product
+// runs once per frame instead of once per IMU sample.
 Status Eskf::predictStepTo(double stamp, const ImuSample* imu) {
-  return predictStep(*model_, &state_, &time_, stamp, imu,
-                     [this](const PoseMat& F, const PoseMat& Q) { return backend_->predict(F, Q); });
+  return predictStep(*model_, &state_, &time_, stamp, imu, [this](const PoseMat& F, const PoseMat& Q) {
+    const PoseMat F_acc = F * pending_F_;
+    PoseMat Q_acc = F * pending_Q_ * F.transpose() + Q;
+    Q_acc = (0.5 * (Q_acc + Q_acc.transpose())).eval();
+    if (!F_acc.allFinite() || !Q_acc.allFinite()) return Status::kNonFinite;
+    pending_F_ = F_acc;
+    pending_Q_ = Q_acc;
+    pending_steps_ = true;
+    return Status::kOk;
+  });
+}
+
+Status Eskf::flushPrediction() {
+  if (!pending_steps_) return Status::kOk;
+  const Status st = backend_->predict(pending_F_, pending_Q_);
+  if (st == Status::kOk) clearPendingPrediction();
+  return st;
+}
+
+void Eskf::clearPendingPrediction() {
+  const int P = model_->poseDim();
+  pending_F_ = PoseMat::Identity(P, P);
+  pending_Q_ = PoseMat::Zero(P, P);
+  pending_steps_ = false;
 }
 
 Status Eskf::predictTo(double stamp) {
   if (!initialised_) return Status::kNotInitialised;
   if (awaiting_alignment_) return Status::kAwaitingImu;
-  return predictStepTo(stamp, nullptr);
+  const Status st = predictStepTo(stamp, nullptr);
+  return st == Status::kOk ? flushPrediction() : st;
 }
 
 Status Eskf::addImu(const ImuSample& sample) {
@@ -144,6 +174,7 @@ Status Eskf::align() {
   if (st != Status::kOk) return st;
   st = backend_->reset(start.C);
   if (st != Status::kOk) return st;
+  clearPendingPrediction();
   state_ = start.x;
   time_ = alignment_samples_.back().stamp;
   last_frame_stamp_ = time_;
@@ -154,7 +185,9 @@ Status Eskf::align() {
 }
 
 PoseMat Eskf::poseCovariance() const {
-  return backend_ ? backend_->poseCovariance() : PoseMat::Zero(model_->poseDim(), model_->poseDim());
+  if (!backend_) return PoseMat::Zero(model_->poseDim(), model_->poseDim());
+  const PoseMat C = backend_->poseCovariance();
+  return pending_steps_ ? predictPoseCovariance(C, pending_F_, pending_Q_) : C;
 }
 
 Mat12 Eskf::cameraCovariance() const { return hapi_eskf::cameraCovariance(*model_, state_, poseCovariance()); }
@@ -243,6 +276,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   }
   auto t0 = Clock::now();
   st = predictStepTo(frame.stamp, nullptr);
+  if (st == Status::kOk) st = flushPrediction();
   rep.t_predict_ms = msSince(t0);
   if (st != Status::kOk) {
     state_ = state_before;  // a rejected frame changes nothing

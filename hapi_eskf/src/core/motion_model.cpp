@@ -25,6 +25,12 @@ Mat12 cameraCovariance(const MotionModel& model, const NominalState& x, const Po
   return 0.5 * (Cc + Cc.transpose());
 }
 
+Mat6 poseCovarianceInWorldAxes(const PoseState& camera, const Mat12& camera_covariance) {
+  Mat6 J = Mat6::Identity();
+  J.block<3, 3>(3, 3) = camera.q.toRotationMatrix();
+  return J * camera_covariance.topLeftCorner<6, 6>() * J.transpose();
+}
+
 ImuSample imuSampleOnCameraClock(double imu_stamp, const Vec3& gyro, const Vec3& accel, const EskfSettings& s) {
   ImuSample out;
   out.stamp = imu_stamp - s.imu_time_offset;

@@ -1,5 +1,7 @@
 #include "hapi_eskf/ros/conversions.hpp"
 
+#include "hapi_eskf/motion_model.hpp"
+
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <Eigen/Eigenvalues>
@@ -86,10 +88,14 @@ geometry_msgs::PoseWithCovariance toPoseWithCovariance(const CameraInMap& T_map_
                                                        const Mat3& R_map_world) {
   geometry_msgs::PoseWithCovariance out;
   out.pose = toPoseMsg(T_map_cam.p, T_map_cam.q);
-  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
+  // World axes (poseCovarianceInWorldAxes), then the map's: R_map_world on
+  // both blocks.
+  PoseState in_map;
+  in_map.q = Eigen::Quaterniond(R_map_world).conjugate() * T_map_cam.q;  // the camera in the world
+  Mat6 J = Mat6::Zero();
   J.block<3, 3>(0, 0) = R_map_world;
-  J.block<3, 3>(3, 3) = T_map_cam.q.toRotationMatrix();
-  toCovarianceMsg(J * C.block<6, 6>(kIdxP, kIdxP) * J.transpose(), &out.covariance);
+  J.block<3, 3>(3, 3) = R_map_world;
+  toCovarianceMsg(J * poseCovarianceInWorldAxes(in_map, C) * J.transpose(), &out.covariance);
   return out;
 }
 
