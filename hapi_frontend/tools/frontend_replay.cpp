@@ -8,10 +8,13 @@
 // stream the live system produces on an unloaded machine, deterministically.
 //
 //   frontend_replay IN.bag OUT.bag [--left T] [--right T] [--left-info T] [--right-info T] [--landmarks T]
+//                   [name=value ...]
 //
 // Defaults: /stereo/{left,right}/image_raw, /stereo/{left,right}/camera_info,
 // /stereo_frontend/landmarks (the topics of launch/all_in_one.launch). The
-// pipeline runs with the defaults of config/frontend.yaml (PipelineParams).
+// pipeline runs with the defaults of config/frontend.yaml (PipelineParams);
+// name=value sets a pipeline parameter by its ROS name (fast_threshold=8),
+// checked against its declared range.
 // Pairs are matched by exact stamp (a hardware-triggered rig, the
 // front end's default approximate_sync: false).
 #include "image_input.hpp"
@@ -30,6 +33,40 @@
 
 namespace {
 
+// Sets the pipeline parameter called `name` from its text (the declarations
+// of PipelineParams::visit, so names and ranges are the nodelet's).
+class TextSetter final : public hapi_frontend::ParamVisitor {
+ public:
+  TextSetter(std::string name, std::string value) : name_(std::move(name)), value_(std::move(value)) {}
+  void visit(const hapi_frontend::ParamSpec& spec, bool& v) override {
+    if (match(spec)) v = value_ == "true" || value_ == "1";
+  }
+  void visit(const hapi_frontend::ParamSpec& spec, int& v) override {
+    if (match(spec)) set(spec, std::stoi(value_), &v);
+  }
+  void visit(const hapi_frontend::ParamSpec& spec, double& v) override {
+    if (match(spec)) set(spec, std::stod(value_), &v);
+  }
+  void visit(const hapi_frontend::ParamSpec& spec, std::string& v) override {
+    if (match(spec)) set(spec, value_, &v);
+  }
+  std::string error() const { return found_ ? error_ : "unknown pipeline parameter '" + name_ + "'"; }
+
+ private:
+  bool match(const hapi_frontend::ParamSpec& spec) {
+    if (name_ != spec.name) return false;
+    found_ = true;
+    return true;
+  }
+  template <typename T>
+  void set(const hapi_frontend::ParamSpec& spec, const T& value, T* field) {
+    error_ = hapi_frontend::checkValue(spec, value);
+    if (error_.empty()) *field = value;
+  }
+  std::string name_, value_, error_;
+  bool found_ = false;
+};
+
 struct Topics {
   std::string left = "/stereo/left/image_raw", right = "/stereo/right/image_raw";
   std::string left_info = "/stereo/left/camera_info", right_info = "/stereo/right/camera_info";
@@ -39,7 +76,7 @@ struct Topics {
 int usage(const char* why) {
   std::cerr << "frontend_replay: " << why << "\n"
             << "usage: frontend_replay IN.bag OUT.bag [--left T] [--right T] [--left-info T] [--right-info T] "
-               "[--landmarks T]\n";
+               "[--landmarks T] [name=value ...]\n";
   return 2;
 }
 
@@ -48,8 +85,20 @@ int usage(const char* why) {
 int main(int argc, char** argv) {
   if (argc < 3) return usage("need IN.bag and OUT.bag");
   Topics t;
+  hapi_frontend::PipelineParams params;
   for (int i = 3; i < argc; ++i) {
     const std::string a = argv[i];
+    const auto eq = a.find('=');
+    if (eq != std::string::npos) {
+      TextSetter setter(a.substr(0, eq), a.substr(eq + 1));
+      try {
+        params.visit(setter);
+      } catch (const std::exception&) {
+        return usage(("not a number: " + a).c_str());
+      }
+      if (!setter.error().empty()) return usage(setter.error().c_str());
+      continue;
+    }
     if (i + 1 >= argc) return usage(("missing value after " + a).c_str());
     const std::string v = argv[++i];
     if (a == "--left") t.left = v;
@@ -62,7 +111,8 @@ int main(int argc, char** argv) {
   try {
     rosbag::Bag in(argv[1], rosbag::bagmode::Read);
     rosbag::Bag out(argv[2], rosbag::bagmode::Write);
-    hapi_frontend::PipelineParams params;
+    const std::string invalid = params.validate();
+    if (!invalid.empty()) return usage(invalid.c_str());
     hapi_frontend::StereoPipeline pipeline(params);
     sensor_msgs::CameraInfo left_info, right_info;
     bool have_left_info = false, have_right_info = false, calibrated = false;

@@ -87,8 +87,9 @@ class InertialMotionModel final : public MotionModel {
 
   void stop(NominalState* x) const override { x->v.setZero(); }
 
-  // With the sample (or the last one held; before any sample, a sample of a
-  // body at rest): omega = w_m - b_g, a = f_m - b_a, a_w = R a + g,
+  // With the sample (the midpoint of it and the previous one, or the last
+  // one held; before any sample, a sample of a body at rest):
+  // omega = w_m - b_g, a = f_m - b_a, a_w = R a + g,
   //   p' = p + v dt + a_w dt^2 / 2,  v' = v + a_w dt,  R' = R Exp(omega dt).
   // Error state, first order:
   //   dp'     = dp + dv dt + (-R [a]x dtheta - R db_a + dg) dt^2 / 2
@@ -103,10 +104,14 @@ class InertialMotionModel final : public MotionModel {
     const Mat3 R = x.q.toRotationMatrix();
     Vec3 w_m, f_m;
     if (imu != nullptr) {
-      w_m = imu->gyro;
-      f_m = imu->accel;
-      next->w = w_m;
-      next->f = f_m;
+      // Midpoint rule: the sample at the end of the step and the previous
+      // one average to the rate at the step's middle (second-order accurate;
+      // the end sample alone lags half a sample period, which in 8-12 Hz
+      // tremor and 1-3 Hz sway is a mm-level error per frame at 200 Hz).
+      w_m = x.has_imu ? Vec3(0.5 * (x.w + imu->gyro)) : imu->gyro;
+      f_m = x.has_imu ? Vec3(0.5 * (x.f + imu->accel)) : imu->accel;
+      next->w = imu->gyro;
+      next->f = imu->accel;
       next->has_imu = true;
     } else if (x.has_imu) {
       w_m = x.w;
