@@ -12,9 +12,12 @@
 // frame are dropped. --out PREFIX writes PREFIX_estimate.tum (the filter's
 // camera pose per frame, TUM: t x y z qx qy qz qw) and, with an IMU model,
 // PREFIX_imu_rate.txt (the nodelet's IMU-rate output: t, pose as in TUM, then
-// the camera-frame linear and angular velocity) and PREFIX_covariance.txt (per
-// frame, the 6x6 pose covariance as the odometry message states it), for
-// tools/eval.
+// the camera-frame linear and angular velocity), PREFIX_covariance.txt (per
+// frame, the 6x6 pose covariance as the odometry message states it) and
+// PREFIX_frame_twist.txt (per frame: t, the filter's camera-frame linear and
+// angular velocity) and PREFIX_anchor.txt (the instant and camera pose that
+// define the filter's world: the reset, or the gravity alignment), for
+// tools/eval/accuracy.py.
 //
 // Without overrides it runs the default EskfSettings, i.e. the tuned filter of
 // config/eskf.yaml. key=value overrides any EskfSettings field (same names as
@@ -131,6 +134,10 @@ int main(int argc, char** argv) {
   if (!backend) { std::cerr << err << "\n"; return 1; }
   Eskf eskf(s, std::move(backend), stream.extrinsic.value_or(CameraExtrinsic()));
   eskf.reset(PoseState(), frames[0].stamp);
+  // The instant that defines the filter's world (the reset, or the inertial
+  // model's gravity alignment) and the camera pose there: PREFIX_anchor.txt.
+  std::FILE* anchor_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_anchor.txt").c_str(), "w");
+  bool anchored = false;
   // The nodelet's order: IMU samples on the camera clock, every one up to a
   // frame's stamp applied before it; the IMU-rate output re-based after each
   // frame and stepped through the samples up to the next one.
@@ -140,6 +147,7 @@ int main(int argc, char** argv) {
   PosePropagator imu_rate(s);
   std::FILE* est_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_estimate.tum").c_str(), "w");
   std::FILE* cov_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_covariance.txt").c_str(), "w");
+  std::FILE* twist_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_frame_twist.txt").c_str(), "w");
   std::FILE* rate_file =
       out_prefix.empty() || !use_imu ? nullptr : std::fopen((out_prefix + "_imu_rate.txt").c_str(), "w");
   auto writePose = [](std::FILE* f, double t, const PoseState& x) {
@@ -238,6 +246,16 @@ int main(int argc, char** argv) {
                      c.w.z());
       }
       if (eskf.addImu(m) != Status::kOk) ++imu_rejected;
+      if (anchor_file && !anchored && !eskf.awaitingAlignment()) {  // the alignment just completed
+        writePose(anchor_file, eskf.time(), eskf.pose());
+        std::fprintf(anchor_file, "\n");
+        anchored = true;
+      }
+    }
+    if (anchor_file && !anchored && !eskf.awaitingAlignment()) {  // the camera models: the reset
+      writePose(anchor_file, eskf.time(), eskf.pose());
+      std::fprintf(anchor_file, "\n");
+      anchored = true;
     }
     std::map<uint64_t, int> before;
     for (const auto& l : eskf.landmarks()) before[l.id] = 1;
@@ -256,6 +274,9 @@ int main(int argc, char** argv) {
       for (int r = 0; r < 6; ++r)
         for (int c = 0; c < 6; ++c) std::fprintf(cov_file, " %.9g", C(r, c));
       std::fprintf(cov_file, "\n");
+      const PoseState c = eskf.pose();
+      std::fprintf(twist_file, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", frames[fi].stamp, c.v.x(), c.v.y(), c.v.z(),
+                   c.w.x(), c.w.y(), c.w.z());
     }
     relocalised += rep.relocalised;
     if (use_imu && st == Status::kOk) imu_rate.rebase(eskf);
@@ -297,6 +318,8 @@ int main(int argc, char** argv) {
   }
   if (est_file) std::fclose(est_file);
   if (cov_file) std::fclose(cov_file);
+  if (anchor_file) std::fclose(anchor_file);
+  if (twist_file) std::fclose(twist_file);
   std::printf("events: %d relocalisations, %d frames vision-led (%d scene moving), %d frames rejected\n",
               relocalised, vision_led, scene_moving, errors);
   if (rate_file) std::fclose(rate_file);

@@ -137,6 +137,30 @@ def pose_nees(aligned_p, ref_p, est_r, ref_r, r_align, cov6):
     return nees(e_p, c_p), nees(e_r, c_r)
 
 
+def anchored_pose_nees(est_p, est_r, ref_p, ref_r, cov6, anchor):
+    """Position and rotation NEES per pose with the estimate's frame tied to the
+    truth's at the instant that defines the filter's world (its reset or
+    gravity alignment), where its covariance starts from its initial sigmas;
+    a least-squares alignment over the whole run would also remove the drift
+    the covariance accounts for.
+
+    est_r, ref_r: (N, 3, 3); cov6: (N, 6, 6) over [position, rotation about
+    the world axes] as the odometry message states it; anchor: (est_p0,
+    est_r0, ref_p0, ref_r0), the estimate and the truth at that instant.
+    """
+    est_p0, est_r0, ref_p0, ref_r0 = anchor
+    r_a = ref_r0 @ est_r0.T
+    t_a = ref_p0 - r_a @ est_p0
+    p = (r_a @ np.asarray(est_p).T).T + t_a
+    r = np.einsum("ij,njk->nik", r_a, est_r)
+    e_p = np.asarray(ref_p) - p
+    e_r = np.array([so3_log(g @ e.T) for e, g in zip(r, ref_r)])
+    cov6 = np.asarray(cov6, dtype=float)
+    c_p = np.einsum("ij,njk,lk->nil", r_a, cov6[:, :3, :3], r_a)
+    c_r = np.einsum("ij,njk,lk->nil", r_a, cov6[:, 3:, 3:], r_a)
+    return nees(e_p, c_p), nees(e_r, c_r)
+
+
 def nees_summary(values, dof=3):
     """Mean, the 95 % bounds of that mean, and the fraction of samples in the per-sample band."""
     v = values[np.isfinite(values)]

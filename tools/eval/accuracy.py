@@ -1,0 +1,256 @@
+#!/usr/bin/python3
+"""Accuracy of the back end's motion models on the simulation scenarios.
+
+For every scenario (scene x trajectory of hapi_sim's make_sim_bag) and every
+motion model it runs the system offline and scores the result against the
+simulator's ground truth (docs/ACCURACY.md records the figures):
+
+  make_sim_bag --scene S --trajectory T --seed N      the scenario (cached in --data)
+  frontend_replay                                     the front end on every stereo pair
+  dump_frames.py                                      landmarks, IMU, extrinsic, truth -> text
+  eskf_replay motion_model=M imu_time_offset=<bag's>  the back end, as the nodelet runs it
+  run_analysis.analyse                                ATE (SE(3), Sim(3)), RPE 1 s, rotation,
+                                                      NEES, IMU-rate velocity errors
+
+    accuracy.py [--scenarios skin:handheld,globe:smooth,...] [--models constant_velocity,gyro,inertial]
+                [--seeds 1] [--duration 30] [--data DIR] [--out DIR] [--markdown FILE]
+    accuracy.py --nees-seeds 20 --scenarios skin:handheld --models inertial --duration 10
+
+Needs a built workspace's environment (source devel/setup.bash). The front end
+runs with config/frontend.yaml's values except where FRONTEND_BY_SCENE says
+otherwise (the low-contrast skin needs a lower FAST threshold and a looser
+sub-pixel correlation, docs/ACCURACY.md says why). Stamps: the filter runs on
+the camera clock, the truth is on the IMU clock (the bag's
+/ground_truth/calibration time_offset_s, t_imu = t_cam + offset); estimates
+are moved to the truth's clock before they are compared.
+
+A run "diverged" when its ATE exceeds 5 % of the distance travelled, its
+largest error exceeds 0.2 m, or the replay failed.
+"""
+import argparse
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import yaml
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import evaluation as ev  # noqa: E402
+import run_analysis  # noqa: E402
+import trajectory_metrics as tm  # noqa: E402
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+DUMP_FRAMES = os.path.join(REPO, "hapi_eskf", "tools", "dump_frames.py")
+SCENES = ("globe", "skin")
+TRAJECTORIES = ("smooth", "handheld", "fast", "loop", "subject")
+MODELS = ("constant_velocity", "gyro", "inertial")
+FRONTEND_BY_SCENE = {"skin": ["fast_threshold=8", "refine_min_zncc=0.8"]}
+DIVERGED_FRACTION, DIVERGED_MAX_M = 0.05, 0.2
+
+
+def run(cmd, log):
+    """Runs cmd, appending its output to log; returns (exit status, stdout)."""
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    with open(log, "a") as f:
+        f.write("$ " + " ".join(cmd) + "\n" + p.stdout + "\n")
+    return p.returncode, p.stdout
+
+
+def stream_for(scene, traj, seed, duration, data, log):
+    """The landmark stream of a scenario (generated and cached on first use)."""
+    name = f"{scene}_{traj}_s{seed}_{duration:g}s"
+    bag, lm, txt = (os.path.join(data, name + ext) for ext in (".bag", "_landmarks.bag", "_stream.txt"))
+    if not os.path.exists(txt):
+        if not os.path.exists(bag):
+            st, _ = run(["rosrun", "hapi_sim", "make_sim_bag", "--scene", scene, "--trajectory", traj, "--seed",
+                         str(seed), "--duration", str(duration), "--output", bag + ".tmp"], log)
+            if st != 0:
+                raise RuntimeError(f"make_sim_bag failed for {name} (see {log})")
+            os.replace(bag + ".tmp", bag)
+        st, _ = run(["rosrun", "hapi_frontend", "frontend_replay", bag, lm] + FRONTEND_BY_SCENE.get(scene, []), log)
+        if st != 0:
+            raise RuntimeError(f"frontend_replay failed for {name} (see {log})")
+        st, _ = run(["/usr/bin/python3", DUMP_FRAMES, lm, txt + ".tmp"], log)
+        if st != 0:
+            raise RuntimeError(f"dump_frames.py failed for {name} (see {log})")
+        os.replace(txt + ".tmp", txt)
+    return name, bag, txt
+
+
+def time_offset(bag):
+    """t_imu = t_cam + offset, from the bag's /ground_truth/calibration (0 without)."""
+    import rosbag
+    with rosbag.Bag(bag) as b:
+        for _, msg, _ in b.read_messages(topics=["/ground_truth/calibration"]):
+            return float(yaml.safe_load(msg.data).get("time_offset_s", 0.0))
+    return 0.0
+
+
+def read_stream_truth(txt):
+    """Truth poses, truth twists (camera frame) and the landmarks per frame of a stream file."""
+    gt, tw, n_meas = [], [], []
+    with open(txt) as f:
+        for line in f:
+            if line.startswith("gt "):
+                gt.append([float(x) for x in line.split()[1:]])
+            elif line.startswith("gtvel "):
+                tw.append([float(x) for x in line.split()[1:]])
+            elif line.startswith("frame "):
+                n_meas.append(int(line.split()[2]))
+    gt, tw = np.array(gt).reshape(-1, 8), np.array(tw).reshape(-1, 7)
+    return ({"t": gt[:, 0], "p": gt[:, 1:4], "q": gt[:, 4:8]},
+            {"t": tw[:, 0], "twist": tw[:, 1:7]} if len(tw) else None, float(np.mean(n_meas)) if n_meas else 0.0)
+
+
+def load_rows(path):
+    rows = [r for r in (line.split() for line in open(path)) if r and not r[0].startswith("#")]
+    return np.array([[float(x) for x in r] for r in rows]) if rows else np.zeros((0, 1))
+
+
+def replay(txt, model, offset, prefix, log):
+    """eskf_replay; returns (exit status, its event counts)."""
+    st, out = run(["rosrun", "hapi_eskf", "eskf_replay", txt, "motion_model=" + model,
+                   "imu_time_offset=%r" % offset, "--out", prefix], log)
+    events = {}
+    for line in out.splitlines():
+        if line.startswith("events:"):
+            w = line.replace(",", "").replace("(", "").split()
+            events = {"relocalisations": int(w[1]), "vision_led_frames": int(w[3]),
+                      "scene_moving_frames": int(w[6]), "rejected_frames": int(w[9])}
+    return st, events
+
+
+def evaluate(prefix, model, offset, truth, truth_twist):
+    """Metrics of one replay against the truth, on the truth's clock."""
+    est = load_rows(prefix + "_estimate.tum")
+    cov = load_rows(prefix + "_covariance.txt")
+    if len(est) < 3:
+        return None, None
+    e = {"t": est[:, 0] + offset, "p": est[:, 1:4], "q": est[:, 4:8], "cov": cov[:, 1:].reshape(-1, 6, 6)}
+    rep, series = run_analysis.analyse(e, truth, max_dt=0.006)
+    # NEES with the frames tied where the filter defines its world
+    # (trajectory_metrics.anchored_pose_nees): the truth interpolated there.
+    ie, g_p, g_r = run_analysis.match(e, truth, 0.006)
+    a = load_rows(prefix + "_anchor.txt")
+    ia, a_p, a_r = tm.interpolate_poses(truth["t"], truth["p"], tm.rotations_from_quats(truth["q"]),
+                                        a[:1, 0] + offset, max_gap=0.2) if len(a) else ([], None, None)
+    if len(ie) >= 3 and len(ia):
+        anchor = (a[0, 1:4], tm.rotations_from_quats(a[:1, 4:8])[0], a_p[0], a_r[0])
+        n_p, n_r = tm.anchored_pose_nees(e["p"][ie], tm.rotations_from_quats(e["q"][ie]), g_p, g_r, e["cov"][ie],
+                                         anchor)
+        for key, vals in (("nees_position", n_p), ("nees_rotation", n_r)):
+            rep[key] = tm.nees_summary(vals)
+            series[key] = vals
+    # Velocity output: at the IMU rate for the IMU models (the nodelet's
+    # IMU-rate odometry), per frame for constant_velocity (the state's v, w).
+    rate_file = prefix + "_imu_rate.txt" if model != "constant_velocity" else prefix + "_frame_twist.txt"
+    if truth_twist is not None and os.path.exists(rate_file):
+        r = load_rows(rate_file)
+        if len(r):
+            tw = r[:, 8:14] if r.shape[1] >= 14 else r[:, 1:7]
+            pairs = ev.associate(r[:, 0] + offset, truth_twist["t"], 0.0026)
+            if pairs:
+                ie = [i for i, _ in pairs]
+                ig = [j for _, j in pairs]
+                w_rms, v_rms = tm.velocity_errors(tw[ie], truth_twist["twist"][ig])
+                rep.update({"angular_velocity_rms_rad_s": w_rms, "linear_velocity_rms_m_s": v_rms,
+                            "velocity_samples": len(pairs)})
+    return rep, series
+
+
+def diverged(rep, status):
+    if status != 0 or rep is None or rep.get("poses_compared", 0) < 3:
+        return True
+    return rep["ate_fraction_of_distance"] > DIVERGED_FRACTION or rep["ate_max_m"] > DIVERGED_MAX_M
+
+
+def fmt(x, scale=1.0, digits=2):
+    return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x * scale:.{digits}f}"
+
+
+def table(results):
+    head = ("| scenario | model | landmarks/frame | ATE % | ATE cm | RPE 1 s cm / deg | max cm | rot RMS deg | "
+            "diverged | relocalised / vision-led frames | w RMS rad/s | v RMS m/s | NEES pos / rot |")
+    lines = [head, "|" + " --- |" * 13]
+    for r in results:
+        m = r["metrics"] or {}
+        nees = (fmt(m.get("nees_position", {}).get("mean")) + " / " + fmt(m.get("nees_rotation", {}).get("mean"))
+                if m.get("nees_position") else "-")
+        lines.append("| {} | {} | {:.0f} | {} | {} | {} / {} | {} | {} | {} | {} / {} | {} | {} | {} |".format(
+            r["scenario"], r["model"], r["landmarks_per_frame"], fmt(m.get("ate_fraction_of_distance"), 100),
+            fmt(m.get("ate_rmse_m"), 100), fmt(m.get("rpe_1s_translation_rmse_m"), 100),
+            fmt(m.get("rpe_1s_rotation_rmse_deg")), fmt(m.get("ate_max_m"), 100), fmt(m.get("rotation_rmse_deg")),
+            "yes" if r["diverged"] else "no", r["events"].get("relocalisations", "-"),
+            r["events"].get("vision_led_frames", "-"), fmt(m.get("angular_velocity_rms_rad_s"), 1, 3),
+            fmt(m.get("linear_velocity_rms_m_s"), 1, 3), nees))
+    return "\n".join(lines)
+
+
+def anees(results):
+    """Average pose NEES over the seeds per frame (Bar-Shalom's ANEES), its 95 % band, the fraction inside."""
+    per_frame = {}
+    for r in results:
+        s = r.get("series") or {}
+        for key in ("nees_position", "nees_rotation"):
+            if key in s:
+                per_frame.setdefault(key, []).append(np.asarray(s[key]))
+    out = {}
+    for key, runs in per_frame.items():
+        n = min(len(v) for v in runs)
+        a = np.mean([v[:n] for v in runs], axis=0)
+        lo, hi = tm.chi2_bounds_of_mean(3, len(runs))
+        out[key] = {"runs": len(runs), "frames": int(n), "mean": float(np.mean(a)), "band_95": [lo, hi],
+                    "fraction_of_frames_inside": float(np.mean((a >= lo) & (a <= hi)))}
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--scenarios", default=",".join(f"{s}:{t}" for s in SCENES for t in TRAJECTORIES))
+    ap.add_argument("--models", default=",".join(MODELS))
+    ap.add_argument("--seeds", type=int, default=1, help="seeds 1..N per scenario")
+    ap.add_argument("--nees-seeds", type=int, default=0, help="ANEES over seeds 1..N (one scenario, one model)")
+    ap.add_argument("--duration", type=float, default=30.0)
+    ap.add_argument("--data", default=os.path.join(REPO, ".data", "sim"))
+    ap.add_argument("--out", default="/tmp/hapi_accuracy")
+    ap.add_argument("--markdown")
+    a = ap.parse_args(argv)
+    os.makedirs(a.data, exist_ok=True)
+    os.makedirs(a.out, exist_ok=True)
+    log = os.path.join(a.out, "accuracy.log")
+    seeds = range(1, (a.nees_seeds or a.seeds) + 1)
+    results = []
+    for sc in a.scenarios.split(","):
+        scene, traj = sc.split(":")
+        for seed in seeds:
+            name, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log)
+            offset = time_offset(bag)
+            truth, truth_twist, lm_per_frame = read_stream_truth(txt)
+            for model in a.models.split(","):
+                prefix = os.path.join(a.out, f"{name}_{model}")
+                status, events = replay(txt, model, offset, prefix, log)
+                rep, series = evaluate(prefix, model, offset, truth, truth_twist) if status == 0 else (None, None)
+                r = {"scenario": f"{scene}/{traj}" + (f" s{seed}" if len(seeds) > 1 else ""), "model": model,
+                     "seed": seed, "landmarks_per_frame": lm_per_frame, "metrics": rep, "events": events,
+                     "diverged": diverged(rep, status), "series": series}
+                results.append(r)
+                print(table([r]).splitlines()[-1], flush=True)
+    text = table(results)
+    report = {"command": " ".join(sys.argv), "duration_s": a.duration,
+              "runs": [{k: v for k, v in r.items() if k != "series"} for r in results]}
+    if a.nees_seeds:
+        report["anees"] = anees(results)
+        text += "\n\nANEES over %d seeds: %s" % (a.nees_seeds, yaml.safe_dump(report["anees"], sort_keys=True))
+    with open(os.path.join(a.out, "accuracy.yaml"), "w") as f:
+        yaml.safe_dump(run_analysis.to_plain(report), f, sort_keys=True)
+    if a.markdown:
+        with open(a.markdown, "w") as f:
+            f.write(text + "\n")
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
