@@ -36,7 +36,7 @@ std::string matrixRows(const Eigen::Isometry3d& T) {
 
 void writeCameraYaml(const std::string& path, const Eigen::Isometry3d& T_BS, double fu, double cu) {
   std::ofstream f(path);
-  f << "%YAML:1.0\n# General sensor definitions.\nsensor_type: camera\ncomment: tiny test camera\n\n"
+  f << "# General sensor definitions.\nsensor_type: camera\ncomment: tiny test camera\n\n"
     << "# Sensor extrinsics wrt. the body-frame.\nT_BS:\n  cols: 4\n  rows: 4\n  data: " << matrixRows(T_BS) << "\n\n"
     << "rate_hz: 20\nresolution: [" << TinyAsl::kWidth << ", " << TinyAsl::kHeight << "]\n"
     << "camera_model: pinhole\nintrinsics: [" << fu << ", " << fu << ", " << cu << ", 24.5] #fu, fv, cu, cv\n"

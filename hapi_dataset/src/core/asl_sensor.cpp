@@ -4,6 +4,8 @@
 #include <opencv2/core.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace hapi_dataset {
@@ -13,14 +15,23 @@ namespace {
   throw std::runtime_error(path + ": " + what);
 }
 
+// EuRoC's sensor.yaml files start with a comment, not with the "%YAML:1.0"
+// directive OpenCV's FileStorage needs to recognise YAML: the text is read and
+// the directive prepended when it is missing.
 cv::FileStorage open(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail(path, "cannot open");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  if (yaml.rfind("%YAML", 0) != 0) yaml = "%YAML:1.0\n" + yaml;
   cv::FileStorage fs;
   try {
-    fs.open(path, cv::FileStorage::READ);
+    fs.open(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   } catch (const cv::Exception& e) {
     fail(path, std::string("not readable as YAML: ") + e.what());
   }
-  if (!fs.isOpened()) fail(path, "cannot open");
+  if (!fs.isOpened()) fail(path, "not readable as YAML");
   return fs;
 }
 
