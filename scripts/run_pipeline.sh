@@ -91,13 +91,24 @@ export ROS_MASTER_URI="http://localhost:$PORT"
 export ROS_HOSTNAME=localhost
 unset ROS_IP || true
 
-read -r BAG_SECONDS BAG_HAS_IMU < <(/usr/bin/python3 -c "
-import rosbag, sys
+# Length, IMU, and the recording's camera-IMU time offset when it states one
+# (/ground_truth/calibration of the simulated recordings, Kalibr's convention).
+read -r BAG_SECONDS BAG_HAS_IMU BAG_TIME_OFFSET < <(/usr/bin/python3 -c "
+import rosbag, sys, yaml
 b = rosbag.Bag(sys.argv[1])
-print(int(b.get_end_time() - b.get_start_time()) + 1, int('/imu/data' in b.get_type_and_topic_info().topics))" "$BAG")
+topics = b.get_type_and_topic_info().topics
+offset = ''
+for _, m, _ in b.read_messages(topics=['/ground_truth/calibration']):
+    offset = repr(float(yaml.safe_load(m.data).get('time_offset_s', 0.0)))
+    break
+print(int(b.get_end_time() - b.get_start_time()) + 1, int('/imu/data' in topics), offset or '-')" "$BAG")
+given() { printf '%s\n' "${LAUNCH_ARGS[@]}" | grep -q "^$1:="; }
 # The inertial filter when the bag has IMU samples, unless told otherwise.
-if [ "$BAG_HAS_IMU" = 1 ] && ! printf '%s\n' "${LAUNCH_ARGS[@]}" | grep -q '^motion_model:='; then
+if [ "$BAG_HAS_IMU" = 1 ] && ! given motion_model; then
   LAUNCH_ARGS+=("motion_model:=inertial")
+fi
+if [ "$BAG_TIME_OFFSET" != "-" ] && ! given imu_time_offset; then
+  LAUNCH_ARGS+=("imu_time_offset:=$BAG_TIME_OFFSET")
 fi
 echo "[pipeline] launch arguments: ${LAUNCH_ARGS[*]:-(none: the motion model of config/eskf.yaml)}"
 # The evaluator ends the launch once the odometry has been quiet for a few

@@ -206,6 +206,8 @@ class PipelineAccuracyTest(unittest.TestCase):
         self.assertGreater(res["odom_messages"], 0, "no odometry")
         self.assertIn("ate_rmse_m", res, "no odometry matched the ground truth")
         self.assertLessEqual(res["ate_fraction_of_distance"], rospy.get_param("~max_ate_fraction", 0.02))
+        if rospy.has_param("~max_position_error"):  # never diverged: the largest error after the alignment
+            self.assertLessEqual(res["ate_max_m"], rospy.get_param("~max_position_error"))
         self.assertGreater(res.get("map_points", 0), 0, "empty map")
         self.assertIn("map_rms_to_sphere_m", res, "globe geometry unknown")
         self.assertLessEqual(res["map_rms_to_sphere_m"], rospy.get_param("~max_map_rms", 0.01))

@@ -7,10 +7,12 @@
 //    sigma: its standard error), the velocity is zero with
 //    static_sigma_velocity.
 //  * Moving start: the mean specific force still points up to within the
-//    mean acceleration over the window (a hand's motion averages out); the
-//    gyro bias starts at zero (initial_sigma_gyro_bias) and the velocity at
-//    zero with initial_sigma_velocity: the first visual updates determine it,
-//    since the landmarks' apparent motion measures the camera's velocity.
+//    mean acceleration over the window (a hand's motion averages out), so
+//    gravity gets a 1 sigma of the accelerometer's spread over the window
+//    when that exceeds initial_sigma_gravity; the gyro bias starts at zero
+//    (initial_sigma_gyro_bias) and the velocity at zero with
+//    initial_sigma_velocity: the first visual updates determine them, since
+//    the landmarks' apparent motion measures the camera's velocity and tilt.
 // Either way the gravity vector stays a state with initial_sigma_gravity per
 // component (the tilt's uncertainty, mostly the unknown accelerometer bias).
 #pragma once

@@ -72,6 +72,15 @@ class MotionModel {
   virtual NominalState fromCamera(const PoseState& camera) const = 0;
   // The covariance of that state (the initial_sigma_* settings).
   virtual PoseMat initialCovariance() const = 0;
+  // initialCovariance() without the [dp, dtheta] rows and columns: added to
+  // C when the motion states (velocities, biases, gravity) turn out
+  // inconsistent with vision, so that the next updates estimate them afresh.
+  PoseMat motionStatesPrior() const {
+    PoseMat C = initialCovariance();
+    C.topRows(6).setZero();
+    C.leftCols(6).setZero();
+    return C;
+  }
 
   // The camera as a measurement sees it: pose in the world, camera-frame
   // linear and angular velocity.
@@ -88,6 +97,11 @@ class MotionModel {
   virtual void moveCameraTo(NominalState* x, const Vec3& p, const Eigen::Quaterniond& q) const = 0;
   // Velocity means zeroed (the motion since an outage is unknown).
   virtual void stop(NominalState* x) const = 0;
+  // The camera turned out to be dp_world [m, world frame] away from where
+  // the prediction over the last dt [s] put it: the velocity mean takes the
+  // difference, v += dp_world / dt (IMU and vision disagreement,
+  // scene_motion_monitor.hpp: the velocity is what made the prediction miss).
+  virtual void correctVelocity(NominalState* x, const Vec3& dp_world, double dt) const = 0;
 
   // One step of length dt > 0, with the sample (a model without IMU ignores
   // it) or without (nullptr: the camera models' constant velocity, the

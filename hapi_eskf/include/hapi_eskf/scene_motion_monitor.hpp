@@ -7,7 +7,7 @@
 // map's rigid fit (RANSAC): when the gate around the IMU-predicted pose
 // rejects more than disagreement_fraction of the fit's inliers, the map
 // agrees with itself on a pose the prediction does not allow, and vision
-// leads for disagreement_hold seconds. The test is scale-free: it needs no
+// leads for that frame. The test is scale-free: it needs no
 // distance threshold, only the covariances the gate already uses. Whether
 // the device itself was still meanwhile (the last alignment_window of IMU
 // samples, inertial_alignment.hpp imuWindowStats about the filter's gyro
@@ -17,13 +17,11 @@
 #include "hapi_eskf/motion_model.hpp"
 
 #include <deque>
-#include <limits>
 
 namespace hapi_eskf {
 
 struct SceneMotionVerdict {
-  bool vision_leads = false;  // this frame: pose means moved to the fit
-  bool disagreed = false;     // this frame's fit inliers were mostly gated out
+  bool disagreed = false;     // this frame's fit inliers were mostly gated out: vision leads
   bool device_still = false;  // the recent IMU samples say the device did not move
 };
 
@@ -33,9 +31,9 @@ class SceneMotionMonitor {
 
   // Each sample the filter used, with its current gyro bias estimate.
   void addImu(const ImuSample& m, const Vec3& gyro_bias);
-  // One frame at `stamp` with a fit of fit_inliers landmarks, of which the
-  // gate around the prediction rejected inliers_gated_out.
-  SceneMotionVerdict onFrame(double stamp, int fit_inliers, int inliers_gated_out);
+  // One frame with a fit of fit_inliers landmarks, of which the gate around
+  // the prediction rejected inliers_gated_out.
+  SceneMotionVerdict onFrame(int fit_inliers, int inliers_gated_out) const;
   void reset();
 
  private:
@@ -43,7 +41,6 @@ class SceneMotionMonitor {
   EskfSettings s_;
   std::deque<ImuSample> recent_;  // the last alignment_window seconds
   Vec3 gyro_bias_ = Vec3::Zero();
-  double last_disagreement_ = -std::numeric_limits<double>::infinity();
 };
 
 }  // namespace hapi_eskf

@@ -86,7 +86,7 @@ struct IterationReport {
   bool update_skipped = false;  // S not PD etc.: state left unchanged
   bool relocalised = false;     // pose mean moved to the map fit after an outage (settings relocalise_gap)
   bool relocalising = false;    // after an outage, no map fit yet: prediction only (no update, no additions)
-  bool vision_led = false;      // IMU and vision disagreed recently: pose means moved to the map fit (scene_motion_monitor.hpp)
+  bool vision_led = false;      // IMU and vision disagreed: pose means moved to the map fit (scene_motion_monitor.hpp)
   bool scene_moving = false;    // ... and the IMU says the device was still: the scanned surface moves
 
   // Adds the per-frame amounts of `o` (timings, counts, mean_nis), so that a

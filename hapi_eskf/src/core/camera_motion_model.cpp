@@ -67,6 +67,10 @@ class CameraMotionModel final : public MotionModel {
     x->v.setZero();
     x->w.setZero();
   }
+  // v is the camera-frame velocity.
+  void correctVelocity(NominalState* x, const Vec3& dp_world, double dt) const override {
+    x->v += x->q.conjugate() * dp_world / dt;
+  }
 
   void step(const NominalState& x, double dt, const ImuSample* imu, NominalState* next, PoseMat* F,
             PoseMat* Q) const override {

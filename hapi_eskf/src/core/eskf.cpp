@@ -284,6 +284,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     outage_stamp_ = outage_before;
     return finish(st);
   }
+  const double previous_frame_stamp = last_frame_stamp_;
   last_frame_stamp_ = frame.stamp;
 
   // --- association ---
@@ -294,17 +295,31 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // IMU and vision agreement (models with IMU; scene_motion_monitor.hpp).
   bool vision_leads = false;
   if (have_fit && model_->usesImu() && !relocalise_pending_) {
-    const SceneMotionVerdict v = scene_motion_.onFrame(frame.stamp, assoc.fit_inliers, assoc.n_fit_inliers_gated_out);
-    vision_leads = v.vision_leads;
-    rep.vision_led = v.vision_leads;
-    rep.scene_moving = v.vision_leads && v.device_still;
+    const SceneMotionVerdict v = scene_motion_.onFrame(assoc.fit_inliers, assoc.n_fit_inliers_gated_out);
+    vision_leads = v.disagreed;
+    rep.vision_led = v.disagreed;
+    rep.scene_moving = v.disagreed && v.device_still;
+    // A moving device whose prediction vision contradicts: the motion states
+    // (velocity, biases, gravity) are what is wrong (a start in a fast turn
+    // levels the map by a mean acceleration, the velocity starts at rest):
+    // their uncertainty goes back to the prior, so this frame's update and
+    // the next ones estimate them afresh instead of keeping a wrong,
+    // confident value that disagrees frame after frame.
+    if (v.disagreed && !v.device_still) {
+      const int P = model_->poseDim();
+      st = backend_->predict(PoseMat::Identity(P, P), model_->motionStatesPrior());
+      if (st != Status::kOk) return finish(st);
+    }
   }
   if (have_fit && (relocalise_pending_ || vision_leads)) {
     // The map fit becomes the linearisation point (means only), then gate
-    // again around it. The velocity stays: after an outage it was already
-    // set to rest; when vision leads, the IMU's velocity is still the
-    // device's best estimate (zeroing it would make the next prediction
-    // disagree again while the device moves).
+    // again around it. After an outage the velocity was set to rest; when
+    // vision leads, the velocity mean takes the displacement the prediction
+    // missed over this frame interval, so the next prediction starts from a
+    // velocity vision supports (left alone, a wrong velocity makes every
+    // following frame disagree again).
+    if (vision_leads && !relocalise_pending_ && frame.stamp > previous_frame_stamp)
+      model_->correctVelocity(&state_, assoc.fit_t - pose().p, frame.stamp - previous_frame_stamp);
     model_->moveCameraTo(&state_, assoc.fit_t, Eigen::Quaterniond(assoc.fit_R).normalized());
     rep.relocalised = relocalise_pending_;
     relocalise_pending_ = false;

@@ -1,6 +1,7 @@
 // Gravity alignment of the inertial start (inertial_alignment.hpp).
 #include "hapi_eskf/inertial_alignment.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hapi_eskf {
@@ -32,6 +33,13 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
   r.x.has_imu = true;
   r.C = model.initialCovariance();
   const double span = window.back().stamp - window.front().stamp;
+  if (!r.still) {
+    // Moving: the mean specific force is gravity plus the mean acceleration
+    // over the window, which the spread bounds; the gravity direction is
+    // that uncertain (fast turns: metres per second squared, tens of degrees).
+    const double sigma_g = std::max(s.initial_sigma_gravity, r.window.accel_spread);
+    r.C.block<3, 3>(kIdxG, kIdxG) = Mat3::Identity() * sigma_g * sigma_g;
+  }
   if (r.still) {
     r.x.b_g = w_mean;
     // Standard error of the mean of white noise of density n over the span.

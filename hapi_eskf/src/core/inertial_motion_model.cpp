@@ -86,6 +86,9 @@ class InertialMotionModel final : public MotionModel {
   }
 
   void stop(NominalState* x) const override { x->v.setZero(); }
+  // v is the body's world-frame velocity; the camera's displacement is the
+  // body's (rotation changes are taken by the pose).
+  void correctVelocity(NominalState* x, const Vec3& dp_world, double dt) const override { x->v += dp_world / dt; }
 
   // With the sample (the midpoint of it and the previous one, or the last
   // one held; before any sample, a sample of a body at rest):

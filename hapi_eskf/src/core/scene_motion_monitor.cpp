@@ -11,19 +11,14 @@ void SceneMotionMonitor::addImu(const ImuSample& m, const Vec3& gyro_bias) {
   while (!recent_.empty() && recent_.front().stamp < m.stamp - s_.alignment_window) recent_.pop_front();
 }
 
-SceneMotionVerdict SceneMotionMonitor::onFrame(double stamp, int fit_inliers, int inliers_gated_out) {
+SceneMotionVerdict SceneMotionMonitor::onFrame(int fit_inliers, int inliers_gated_out) const {
   SceneMotionVerdict v;
   if (!(s_.disagreement_fraction < 1.0) || fit_inliers <= 0) return v;
   v.device_still = imuWindowStats(recent_.begin(), recent_.end(), gyro_bias_, s_).still;
   v.disagreed = inliers_gated_out > s_.disagreement_fraction * fit_inliers;
-  if (v.disagreed) last_disagreement_ = stamp;
-  v.vision_leads = stamp - last_disagreement_ <= s_.disagreement_hold;
   return v;
 }
 
-void SceneMotionMonitor::reset() {
-  recent_.clear();
-  last_disagreement_ = -std::numeric_limits<double>::infinity();
-}
+void SceneMotionMonitor::reset() { recent_.clear(); }
 
 }  // namespace hapi_eskf

@@ -1,4 +1,4 @@
-// rostest of EskfNodelet with ~base_frame and ~use_imu (eskf_nodelet_imu_base.test).
+// rostest of EskfNodelet with ~base_frame and ~motion_model gyro (eskf_nodelet_imu_base.test).
 // The tests run in order on one nodelet instance:
 //  1. frames at 20 Hz with 100 Hz gyro in between: map anchored at the first
 //     base pose, TF map -> base_link, the gyro drives the prediction;
@@ -32,6 +32,7 @@ std::vector<ros::WallTime> odom_arrivals;
 std::size_t n_paths = 0;
 ros::WallTime last_path_arrival;
 std::map<std::string, std::string> diag;
+std::map<std::string, std::string> diag_no_tf;  // the second nodelet (IMU frame without TF)
 
 void onOdom(const nav_msgs::Odometry::ConstPtr& m) {
   std::lock_guard<std::mutex> lk(mu);
@@ -45,9 +46,12 @@ void onPath(const nav_msgs::Path::ConstPtr&) {
 }
 void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
   std::lock_guard<std::mutex> lk(mu);
-  for (const auto& s : m->status)
-    if (s.name.find("eskf") != std::string::npos)
+  for (const auto& s : m->status) {
+    if (s.name.find("eskf_no_tf") != std::string::npos)
+      for (const auto& kv : s.values) diag_no_tf[kv.key] = kv.value;
+    else if (s.name.find("eskf") != std::string::npos)
       for (const auto& kv : s.values) diag[kv.key] = kv.value;
+  }
 }
 std::size_t numOdom() {
   std::lock_guard<std::mutex> lk(mu);
@@ -304,6 +308,75 @@ TEST(EskfNodeletImuBase, BadImuSamplesAreDroppedAndCounted) {
   const nav_msgs::Odometry after = lastOdom();
   EXPECT_LT((position(after) - position(before)).norm(), 0.02);
   EXPECT_LT((position(after) - rig->truth(t_last + 0.02).translation()).norm(), 0.05);
+}
+
+double diagKey(const std::map<std::string, std::string>& d, const std::string& key) {
+  std::lock_guard<std::mutex> lk(mu);
+  const auto it = d.find(key);
+  return it == d.end() ? -1.0 : std::stod(it->second);
+}
+
+// Each kind of bad IMU input has its own counter on /diagnostics; none of
+// them produces an output or moves the pose. A gap is reported and bridged.
+TEST(EskfNodeletImuBase, EachBadImuInputHasItsCounter) {
+  const char* keys[] = {"imu_dropped_invalid", "imu_dropped_saturated", "imu_dropped_far_from_frames", "imu_gaps"};
+  std::map<std::string, double> before_count;
+  for (const char* k : keys) {
+    ASSERT_TRUE(waitFor([&] { return diagKey(diag, k) >= 0.0; }, 5.0)) << k;
+    before_count[k] = diagKey(diag, k);
+  }
+  const nav_msgs::Odometry before = lastOdom();
+  const std::size_t n0 = numOdom();
+  const double t_last = (before.header.stamp - rig->t0).toSec();
+  auto sample = [&](double t) {
+    sensor_msgs::Imu m;
+    m.header.stamp = rig->t0 + ros::Duration(t);
+    m.header.frame_id = "imu_link";
+    m.linear_acceleration.y = -9.81;
+    return m;
+  };
+  sensor_msgs::Imu bad = sample(t_last + 0.01);
+  bad.linear_acceleration.z = std::numeric_limits<double>::infinity();  // non-finite specific force
+  rig->imu_pub.publish(bad);
+  bad = sample(t_last + 0.011);
+  bad.angular_velocity.x = 50.0;  // beyond ~imu_gyro_limit: saturated
+  rig->imu_pub.publish(bad);
+  rig->imu_pub.publish(sample(t_last + 5.0));  // far from the newest image stamp (~imu_max_frame_offset)
+  ASSERT_TRUE(waitFor(
+      [&] { return diagKey(diag, "imu_dropped_far_from_frames") >= before_count["imu_dropped_far_from_frames"] + 1; },
+      5.0));
+  EXPECT_GE(diagKey(diag, "imu_dropped_invalid"), before_count["imu_dropped_invalid"] + 1);
+  EXPECT_GE(diagKey(diag, "imu_dropped_saturated"), before_count["imu_dropped_saturated"] + 1);
+  EXPECT_EQ(numOdom(), n0);
+  // A gap of 0.2 s (> ~imu_max_gap): counted, the sample after it is used.
+  rig->publishImu(t_last + 0.2);
+  const ros::Time good = rig->t0 + ros::Duration(t_last + 0.2);
+  ASSERT_TRUE(waitFor([&] { return lastOdom().header.stamp == good; }, 5.0));
+  EXPECT_TRUE(waitFor([&] { return diagKey(diag, "imu_gaps") >= before_count["imu_gaps"] + 1; }, 5.0))
+      << diagKey(diag, "imu_gaps");
+  EXPECT_LT((position(lastOdom()) - rig->truth(t_last + 0.2).translation()).norm(), 0.05);
+}
+
+// An IMU whose frame has no TF to the camera: every sample is dropped and
+// counted (imu_dropped_no_extrinsic), the filter runs on as if without IMU.
+TEST(EskfNodeletImuBase, ImuWithoutExtrinsicIsDroppedAndCounted) {
+  ros::NodeHandle nh;
+  ros::Publisher lm = nh.advertise<hapi_msgs::StereoLandmarks>("/eskf_no_tf/landmarks", 10);
+  ros::Publisher imu = nh.advertise<sensor_msgs::Imu>("/imu/no_tf", 100);
+  ASSERT_TRUE(waitFor([&] { return lm.getNumSubscribers() > 0 && imu.getNumSubscribers() > 0; }, 10.0));
+  const double t = 100.0;
+  lm.publish(rig->scene.frame(t, rig->t0 + ros::Duration(t), kFrame));
+  ros::WallDuration(0.3).sleep();
+  for (int k = 1; k <= 20; ++k) {
+    sensor_msgs::Imu m;
+    m.header.stamp = rig->t0 + ros::Duration(t + 0.005 * k);
+    m.header.frame_id = "imu_without_tf";
+    m.linear_acceleration.y = -9.81;
+    imu.publish(m);
+  }
+  ASSERT_TRUE(waitFor([&] { return diagKey(diag_no_tf, "imu_dropped_no_extrinsic") >= 20; }, 5.0))
+      << diagKey(diag_no_tf, "imu_dropped_no_extrinsic");
+  EXPECT_EQ(diagKey(diag_no_tf, "imu_samples_used"), 0.0);
 }
 
 int main(int argc, char** argv) {
