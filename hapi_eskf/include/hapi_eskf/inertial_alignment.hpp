@@ -26,12 +26,14 @@
 namespace hapi_eskf {
 
 // A window of IMU samples: means, and whether the device was still. Still
-// means all three: the gyro's RMS about gyro_bias below static_gyro_threshold
+// means all three: the gyro's RMS about gyro_bias below gyro_threshold
 // (a steady turn has no spread, so the spread alone would call it still and
 // take the turn rate for a bias), the accelerometer's RMS deviation from its
-// mean below static_accel_threshold, and the mean specific force within
-// static_accel_threshold of gravity_magnitude (no steady acceleration). The
-// alignment and the scene-motion check use this one rule.
+// mean below accel_threshold, and the mean specific force within
+// accel_threshold of gravity_magnitude (no steady acceleration). The
+// alignment (static_*_threshold: a bias estimate needs a device at rest) and
+// the scene-motion check (held_*_threshold: a hand holding the device still
+// still trembles) use this one rule.
 struct ImuWindowStats {
   Vec3 gyro_mean = Vec3::Zero(), accel_mean = Vec3::Zero();
   double gyro_rms = 0.0;      // about the bias [rad/s]
@@ -39,7 +41,8 @@ struct ImuWindowStats {
   bool still = false;
 };
 template <typename Iterator>
-ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bias, const EskfSettings& s);
+ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bias, double gyro_threshold,
+                              double accel_threshold, const EskfSettings& s);
 
 struct InertialStart {
   NominalState x;  // at the stamp of the window's last sample
@@ -57,7 +60,8 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
                           InertialStart* out);
 
 template <typename Iterator>
-ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bias, const EskfSettings& s) {
+ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bias, double gyro_threshold,
+                              double accel_threshold, const EskfSettings& s) {
   ImuWindowStats r;
   double n = 0.0, w2 = 0.0;
   for (Iterator it = begin; it != end; ++it) {
@@ -73,8 +77,8 @@ ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bia
   for (Iterator it = begin; it != end; ++it) f2 += (it->accel - r.accel_mean).squaredNorm();
   r.gyro_rms = std::sqrt(w2 / n);
   r.accel_spread = std::sqrt(f2 / n);
-  r.still = r.gyro_rms < s.static_gyro_threshold && r.accel_spread < s.static_accel_threshold &&
-            std::abs(r.accel_mean.norm() - s.gravity_magnitude) < s.static_accel_threshold;
+  r.still = r.gyro_rms < gyro_threshold && r.accel_spread < accel_threshold &&
+            std::abs(r.accel_mean.norm() - s.gravity_magnitude) < accel_threshold;
   return r;
 }
 

@@ -13,7 +13,8 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
   for (const ImuSample& m : window)
     if (!m.gyro.allFinite() || !m.accel.allFinite() || !std::isfinite(m.stamp)) return Status::kNonFinite;
   InertialStart r;
-  r.window = imuWindowStats(window.begin(), window.end(), Vec3::Zero(), s);
+  r.window = imuWindowStats(window.begin(), window.end(), Vec3::Zero(), s.static_gyro_threshold,
+                            s.static_accel_threshold, s);
   r.still = r.window.still;
   const Vec3 w_mean = r.window.gyro_mean, f_mean = r.window.accel_mean;
   r.specific_force = f_mean.norm();
