@@ -20,20 +20,16 @@ output. Lines (stamps in seconds, as in the bag):
 import argparse
 import binascii
 import json
+import os
+import sys
 
 import numpy as np
 import rosbag
 import yaml
 
-
-def quat_to_rot(x, y, z, w):
-    n = np.sqrt(x * x + y * y + z * z + w * w)
-    x, y, z, w = x / n, y / n, z / n, w / n
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+# The one quaternion convention of the evaluation tools (tools/eval/evaluation.py).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "eval"))
+from evaluation import quat_to_rot  # noqa: E402
 
 
 def static_transforms(bag):
@@ -42,7 +38,7 @@ def static_transforms(bag):
     for _, msg, _ in bag.read_messages(topics=["/tf_static"]):
         for t in msg.transforms:
             r, p = t.transform.rotation, t.transform.translation
-            out[(t.header.frame_id, t.child_frame_id)] = (quat_to_rot(r.x, r.y, r.z, r.w),
+            out[(t.header.frame_id, t.child_frame_id)] = (quat_to_rot((r.x, r.y, r.z, r.w)),
                                                           np.array([p.x, p.y, p.z]))
     return out
 
