@@ -201,7 +201,7 @@ def anees(results):
         n = min(len(v) for v in runs)
         a = np.mean([v[:n] for v in runs], axis=0)
         lo, hi = tm.chi2_bounds_of_mean(3, len(runs))
-        out[key] = {"runs": len(runs), "frames": int(n), "mean": float(np.mean(a)), "band_95": [lo, hi],
+        out[key] = {"runs": len(runs), "frames": int(n), "mean": float(np.mean(a)), "band_95": [float(lo), float(hi)],
                     "fraction_of_frames_inside": float(np.mean((a >= lo) & (a <= hi)))}
     return out
 
@@ -241,7 +241,7 @@ def main(argv=None):
     report = {"command": " ".join(sys.argv), "duration_s": a.duration,
               "runs": [{k: v for k, v in r.items() if k != "series"} for r in results]}
     if a.nees_seeds:
-        report["anees"] = anees(results)
+        report["anees"] = run_analysis.to_plain(anees(results))
         text += "\n\nANEES over %d seeds: %s" % (a.nees_seeds, yaml.safe_dump(report["anees"], sort_keys=True))
     with open(os.path.join(a.out, "accuracy.yaml"), "w") as f:
         yaml.safe_dump(run_analysis.to_plain(report), f, sort_keys=True)
