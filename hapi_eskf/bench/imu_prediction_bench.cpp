@@ -42,6 +42,10 @@ int main(int argc, char** argv) {
   }
   s.max_landmarks = K;
   if (!s.validate().empty()) { std::cerr << s.validate() << "\n"; return 1; }
+  if (s.motion_model == MotionModelKind::kConstantVelocity) {
+    std::cerr << "motion_model constant_velocity takes no IMU samples\n";
+    return 1;
+  }
   std::string err;
   auto backend = makeBackend(s, 32, &err);
   if (!backend) { std::cerr << err << "\n"; return 1; }
