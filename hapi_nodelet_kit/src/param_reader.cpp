@@ -3,6 +3,8 @@
 #include "hapi_nodelet_kit/param_reader.hpp"
 
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace hapi_nodelet_kit {
 namespace {
@@ -53,6 +55,8 @@ template <>
 const char* expected<double>() { return "a number"; }
 template <>
 const char* expected<std::string>() { return "a string"; }
+template <>
+const char* expected<std::vector<double>>() { return "a list of numbers"; }
 
 // Exact conversions only: no bool from 0/1, no int from 2.0.
 bool get(XmlRpc::XmlRpcValue& x, bool* v) {
@@ -75,6 +79,15 @@ bool get(XmlRpc::XmlRpcValue& x, double* v) {
 bool get(XmlRpc::XmlRpcValue& x, std::string* v) {
   if (x.getType() != XmlRpc::XmlRpcValue::TypeString) return false;
   *v = static_cast<std::string&>(x);
+  return true;
+}
+
+bool get(XmlRpc::XmlRpcValue& x, std::vector<double>* v) {
+  if (x.getType() != XmlRpc::XmlRpcValue::TypeArray) return false;
+  std::vector<double> out(static_cast<std::size_t>(x.size()));
+  for (int i = 0; i < x.size(); ++i)
+    if (!get(x[i], &out[static_cast<std::size_t>(i)])) return false;
+  *v = std::move(out);
   return true;
 }
 
@@ -163,6 +176,7 @@ template bool ParamReader::read<bool>(const std::string&, bool*);
 template bool ParamReader::read<int>(const std::string&, int*);
 template bool ParamReader::read<double>(const std::string&, double*);
 template bool ParamReader::read<std::string>(const std::string&, std::string*);
+template bool ParamReader::read<std::vector<double>>(const std::string&, std::vector<double>*);
 template bool ParamReader::readRenamed<bool>(const std::string&, const std::string&, bool*);
 template bool ParamReader::readRenamed<int>(const std::string&, const std::string&, int*);
 template bool ParamReader::readRenamed<double>(const std::string&, const std::string&, double*);

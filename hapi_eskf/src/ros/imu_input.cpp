@@ -71,7 +71,11 @@ std::optional<TimedImuSample> ImuInput::accept(const sensor_msgs::Imu& msg) {
   }
   const std::string& frame = msg.header.frame_id;
   if (!extrinsic_) {
-    if (frame.empty() || frame == camera_frame_) {
+    CameraExtrinsic from_param;
+    std::string unused;
+    if (!params_.T_cam_imu.empty() && cameraInImuFromKalibr(params_.T_cam_imu, &from_param, &unused)) {
+      extrinsic_ = from_param;  // ~T_cam_imu: the calibration given as a parameter
+    } else if (frame.empty() || frame == camera_frame_) {
       extrinsic_ = CameraExtrinsic();
     } else {
       // Static mounting assumed: looked up once, non-blocking.

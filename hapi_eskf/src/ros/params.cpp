@@ -7,6 +7,7 @@
 
 #include <hapi_nodelet_kit/time_jump_reset_param.hpp>
 
+#include <cmath>
 #include <utility>
 
 namespace hapi_eskf {
@@ -54,6 +55,10 @@ void readParams(hapi_nodelet_kit::ParamReader& reader, NodeletParams* out) {
   NodeletParams p;  // the tables' defaults
   forEachParameter(p, [&](const FieldInfo& f, auto& v) { readField(reader, f.name, &v); });
   p.time_jump_reset = hapi_nodelet_kit::readTimeJumpReset(reader);
+  if (reader.read("T_cam_imu", &p.T_cam_imu) && !p.T_cam_imu.empty()) {
+    std::string why;
+    if (!cameraInImuFromKalibr(p.T_cam_imu, nullptr, &why)) reader.error("~T_cam_imu " + why);
+  }
   // ~use_imu: true was the gyro model before ~motion_model existed.
   bool use_imu = false;
   if (reader.read("use_imu", &use_imu)) {
@@ -64,6 +69,27 @@ void readParams(hapi_nodelet_kit::ParamReader& reader, NodeletParams* out) {
   for (const std::string& e : p.problems()) reader.error(e);
   p.unknown = reader.warnAboutUnknown("config/eskf.yaml");
   *out = std::move(p);
+}
+
+bool cameraInImuFromKalibr(const std::vector<double>& T_cam_imu, CameraExtrinsic* out, std::string* why) {
+  if (T_cam_imu.size() != 16) {
+    *why = "must hold 16 numbers (a row-major 4x4), got " + std::to_string(T_cam_imu.size());
+    return false;
+  }
+  Eigen::Matrix4d T;
+  for (int i = 0; i < 16; ++i) T(i / 4, i % 4) = T_cam_imu[static_cast<std::size_t>(i)];
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  if (!T.allFinite() || (T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9 ||
+      (R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 ||
+      std::abs(R.determinant() - 1.0) > 1e-6) {
+    *why = "must be a rigid transform (rotation, translation, last row 0 0 0 1)";
+    return false;
+  }
+  if (out != nullptr) {
+    out->R_imu_cam = R.transpose();
+    out->p_imu_cam = -R.transpose() * T.topRightCorner<3, 1>();
+  }
+  return true;
 }
 
 std::string loadParams(const ros::NodeHandle& pnh, NodeletParams* out) {

@@ -79,6 +79,8 @@ TEST(EskfParams, ReadRules) {
   ros::param::set("/ok/cuda_solve", std::string("inverse"));
   ros::param::set("/ok/use_imu", true);
   ros::param::set("/ok/max_landmark", 10);
+  // Kalibr's T_cam_imu: the camera in the IMU frame is its inverse.
+  ros::param::set("/ok/T_cam_imu", std::vector<double>{0, -1, 0, 0.01, 0, 0, -1, 0.02, 1, 0, 0, 0.03, 0, 0, 0, 1});
   ros::param::set("/ok/nested/key", 1);
   ASSERT_EQ(loadParams(ros::NodeHandle("/ok"), &p), "");
   EXPECT_EQ(p.map_publish_rate, 2.0);
@@ -87,6 +89,11 @@ TEST(EskfParams, ReadRules) {
   // The deprecated ~use_imu: true selects the gyro model (and is not unknown).
   EXPECT_EQ(p.filter.motion_model, hapi_eskf::MotionModelKind::kGyro);
   EXPECT_TRUE(p.usesImu());
+  hapi_eskf::CameraExtrinsic e;
+  std::string why;
+  ASSERT_TRUE(hapi_eskf::ros_glue::cameraInImuFromKalibr(p.T_cam_imu, &e, &why)) << why;
+  EXPECT_LT((e.R_imu_cam * Eigen::Vector3d(0.01, 0.02, 0.03) + e.p_imu_cam).norm(), 1e-12);  // camera origin side
+  EXPECT_LT((e.R_imu_cam * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
   EXPECT_EQ(p.unknown, (std::vector<std::string>{"max_landmark"}));
   // A present parameter of the wrong type, an unknown enum name, a value out
   // of its range, a broken rule between parameters: refused, *out untouched.
@@ -110,6 +117,11 @@ TEST(EskfParams, ReadRules) {
   ros::param::set("/rule/imu_topic", std::string(""));
   EXPECT_EQ(loadParams(ros::NodeHandle("/rule"), &p),
             "~imu_topic must not be empty with ~motion_model gyro or inertial");
+  ros::param::set("/extrinsic/T_cam_imu", std::vector<double>{1, 0, 0});
+  EXPECT_EQ(loadParams(ros::NodeHandle("/extrinsic"), &p), "~T_cam_imu must hold 16 numbers (a row-major 4x4), got 3");
+  ros::param::set("/extrinsic2/T_cam_imu", std::vector<double>{2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1});
+  EXPECT_EQ(loadParams(ros::NodeHandle("/extrinsic2"), &p),
+            "~T_cam_imu must be a rigid transform (rotation, translation, last row 0 0 0 1)");
   ros::param::set("/model/motion_model", std::string("imu"));
   EXPECT_EQ(loadParams(ros::NodeHandle("/model"), &p),
             "~motion_model must be 'constant_velocity', 'gyro' or 'inertial', got 'imu'");

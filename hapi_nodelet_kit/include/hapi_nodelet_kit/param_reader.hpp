@@ -48,7 +48,9 @@ class ParamReader {
   explicit ParamReader(std::unique_ptr<ParamSource> source);
   ~ParamReader();
 
-  // Reads ~name into *value. Returns true when it is set with a usable type
+  // Reads ~name into *value (bool, int, double, std::string, and
+  // std::vector<double> from a list of numbers). Returns true when it is set
+  // with a usable type
   // (*value updated); false when it is not set (*value keeps its default) or
   // has the wrong type (an error is recorded, *value keeps its default).
   template <typename T>

@@ -1,7 +1,7 @@
 // IMU input of hapi_eskf/EskfNodelet (~motion_model gyro or inertial): checks
 // each sensor_msgs/Imu sample (finite, not saturated, near the image clock,
-// in stamp order), looks the camera-IMU extrinsic up in TF once (static
-// mounting), moves the stamp to the camera clock (EskfSettings
+// in stamp order), takes the camera-IMU extrinsic from ~T_cam_imu or else
+// looks it up in TF once (static mounting), moves the stamp to the camera clock (EskfSettings
 // imu_time_offset) and keeps the samples in strictly increasing stamp order
 // until the worker consumes them for the filter's prediction. Every drop is
 // counted and reported (rate-limited) with its reason; nothing malformed

@@ -7,6 +7,7 @@
 // default (checked by test/ros/params_rostest.cpp).
 #pragma once
 
+#include "hapi_eskf/motion_model.hpp"
 #include "hapi_eskf/settings.hpp"
 
 #include <hapi_nodelet_kit/param_reader.hpp>
@@ -28,6 +29,12 @@ struct NodeletParams {
 
   // [s] the stamp guard's threshold (landmarks and IMU inputs).
   double time_jump_reset = hapi_nodelet_kit::TimeJumpResetParam::kDefault;
+
+  // ~T_cam_imu: the IMU frame in the camera frame, X_cam = T X_imu, 16 numbers
+  // row-major (Kalibr's T_cam_imu). Empty (the default): the extrinsic comes
+  // from TF. A list of numbers is not a table type (field_table.hpp), so it
+  // is read and checked here (readParams).
+  std::vector<double> T_cam_imu;
 
   // Set by readParams: names under ~ that no parameter reads (typos such as
   // ~max_landmark would otherwise be silently ignored).
@@ -67,6 +74,11 @@ void forEachParameter(Params& p, Visitor&& visit) {
 // field keeps its default); names under ~ that nothing reads are named in a
 // warning of `reader` and listed in out->unknown.
 void readParams(hapi_nodelet_kit::ParamReader& reader, NodeletParams* out);
+
+// The camera in the IMU frame from Kalibr's T_cam_imu (16 numbers,
+// row-major, X_cam = T X_imu): false and *why for a wrong count or a matrix
+// that is not a rigid transform; *out may be null (check only).
+bool cameraInImuFromKalibr(const std::vector<double>& T_cam_imu, CameraExtrinsic* out, std::string* why);
 
 // readParams on the parameter server below `pnh`. Returns "" and sets *out
 // when every parameter is valid, else the errors joined by "; " (*out
