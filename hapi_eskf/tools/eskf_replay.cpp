@@ -155,6 +155,7 @@ int main(int argc, char** argv) {
                  x.q.z(), x.q.w());
   };
   int imu_rejected = 0, awaiting = 0, vision_led = 0, scene_moving = 0, relocalised = 0, errors = 0;
+  std::vector<double> frame_ms;  // the filter's wall time per processed frame
 
   std::vector<Vec3> est, ref;
   double sum_t = 0, nis_sum = 0;
@@ -295,6 +296,7 @@ int main(int argc, char** argv) {
       }
     ++n_proc;
     sum_t += rep.t_total_ms;
+    frame_ms.push_back(rep.t_total_ms);
     if (rep.n_updated > 0) { nis_sum += rep.mean_nis; ++nis_n; }
     // Nearest ground truth (same stamps in the generated bags).
     const tools::TruePose* best = nullptr;
@@ -353,6 +355,16 @@ int main(int argc, char** argv) {
   }
   std::printf("map: seen once %d (rms %.4f m), seen more %d (rms %.4f m), |d| > 1 cm: %d, mean signed %.4f m\n", n1,
               n1 ? std::sqrt(sm1 / n1) : 0.0, nn, nn ? std::sqrt(smn / nn) : 0.0, n_far, d_mean);
+  // Per-frame filter time distribution (nearest-rank percentiles).
+  if (!frame_ms.empty()) {
+    std::vector<double> sorted = frame_ms;
+    std::sort(sorted.begin(), sorted.end());
+    auto pct = [&](double q) {
+      return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(std::ceil(q * sorted.size())) - 1)];
+    };
+    std::printf("frame time [ms]: p50 %.2f p99 %.2f max %.2f over %zu frames (backend %s)\n", pct(0.5), pct(0.99),
+                sorted.back(), sorted.size(), eskf.backend().name());
+  }
   std::printf("frames=%d ate=%.4f m (%.2f %% of %.3f m) max=%.4f map_rms=%.4f m (%zu pts) mean_nis=%.2f mean_ms=%.1f\n",
               n_proc, ate, 100 * ate / dist, dist, emax, lms.empty() ? 0.0 : std::sqrt(sm / lms.size()), lms.size(),
               nis_n ? nis_sum / nis_n : 0.0, sum_t / n_proc);

@@ -27,6 +27,7 @@ for s in "$REPO"/.device/streams/*.txt; do
       "$REPLAY" "$s" motion_model=$model backend=$backend imu_time_offset=$offset \
         --out "$OUT/${name}_${model}_${backend}" >"$OUT/${name}_${model}_${backend}.log" 2>&1
       echo "$name $model $backend: $(grep '^frames=' "$OUT/${name}_${model}_${backend}.log")"
+      echo "  $(grep '^frame time' "$OUT/${name}_${model}_${backend}.log")"
     done
     python3 - "$OUT/${name}_${model}_cpu_estimate.tum" "$OUT/${name}_${model}_cuda_estimate.tum" <<'PY'
 import sys
