@@ -13,7 +13,7 @@ simulator's ground truth (docs/ACCURACY.md records the figures):
                                                       NEES, IMU-rate velocity errors
 
     accuracy.py [--scenarios skin:handheld,globe:smooth,...] [--models constant_velocity,gyro,inertial]
-                [--seeds 1] [--duration 30] [--data DIR] [--out DIR] [--markdown FILE]
+                [--seeds 1] [--duration 30] [--data DIR] [--out DIR] [--markdown FILE] [--set key=value ...]
     accuracy.py --nees-seeds 20 --scenarios skin:handheld --models inertial --duration 10
 
 Needs a built workspace's environment (source devel/setup.bash). The front end
@@ -109,10 +109,10 @@ def load_rows(path):
     return np.array([[float(x) for x in r] for r in rows]) if rows else np.zeros((0, 1))
 
 
-def replay(txt, model, offset, prefix, log):
-    """eskf_replay; returns (exit status, its event counts)."""
+def replay(txt, model, offset, prefix, log, settings=()):
+    """eskf_replay (settings: extra key=value filter settings); returns (exit status, its event counts)."""
     st, out = run(["rosrun", "hapi_eskf", "eskf_replay", txt, "motion_model=" + model,
-                   "imu_time_offset=%r" % offset, "--out", prefix], log)
+                   "imu_time_offset=%r" % offset, "--out", prefix] + list(settings), log)
     events = {}
     for line in out.splitlines():
         if line.startswith("events:"):
@@ -216,6 +216,8 @@ def main(argv=None):
     ap.add_argument("--data", default=os.path.join(REPO, ".data", "sim"))
     ap.add_argument("--out", default="/tmp/hapi_accuracy")
     ap.add_argument("--markdown")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a filter setting for every replay (eskf_replay key=value; repeatable)")
     a = ap.parse_args(argv)
     os.makedirs(a.data, exist_ok=True)
     os.makedirs(a.out, exist_ok=True)
@@ -230,7 +232,7 @@ def main(argv=None):
             truth, truth_twist, lm_per_frame = read_stream_truth(txt)
             for model in a.models.split(","):
                 prefix = os.path.join(a.out, f"{name}_{model}")
-                status, events = replay(txt, model, offset, prefix, log)
+                status, events = replay(txt, model, offset, prefix, log, a.set)
                 rep, series = evaluate(prefix, model, offset, truth, truth_twist) if status == 0 else (None, None)
                 r = {"scenario": f"{scene}/{traj}" + (f" s{seed}" if len(seeds) > 1 else ""), "model": model,
                      "seed": seed, "landmarks_per_frame": lm_per_frame, "metrics": rep, "events": events,
