@@ -47,12 +47,14 @@ void PipelineParams::visit(ParamVisitor& v) {
   static const S kRatio = S::number("match_ratio", R::openClosed(0, 1), "", "Lowe ratio: best < ratio * second best");
   static const S kHamming = S::number("match_max_hamming", R::atLeast(0), "bits", "absolute descriptor distance bound");
   static const S kCross = S::flag("match_cross_check", "keep only mutual best matches");
-  // --- sub-pixel refinement (core tuning values, not ROS parameters)
+  // --- sub-pixel refinement (core tuning values, not ROS parameters, except
+  // the correlation threshold: faint textures such as skin need it lower,
+  // config/frontend_skin.yaml)
   static const S kRefine = S::flag("refine_subpixel", "ZNCC refinement of the right keypoint").coreOnly();
   static const S kHalfPatch =
       S::number("refine_half_patch", R::closed(1, 30), "px", "half size of the correlated patch").coreOnly();
   static const S kRadius = S::number("refine_radius", R::closed(1, 30), "px", "search radius").coreOnly();
-  static const S kZncc = S::number("refine_min_zncc", R::closed(-1, 1), "", "weakest correlation peak kept").coreOnly();
+  static const S kZncc = S::number("refine_min_zncc", R::closed(-1, 1), "", "weakest correlation peak kept");
 
   v.visit(kDetector, detector);
   v.visit(kUseGpu, use_gpu);
