@@ -154,6 +154,15 @@ int main(int argc, char** argv) {
     std::fprintf(f, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", t, x.p.x(), x.p.y(), x.p.z(), x.q.x(), x.q.y(),
                  x.q.z(), x.q.w());
   };
+  // Written once, as soon as the filter has its world: at the reset for the
+  // camera models, when the gravity alignment completes for the inertial one.
+  auto writeAnchorOnce = [&] {
+    if (anchor_file == nullptr || anchored || eskf.awaitingAlignment()) return;
+    writePose(anchor_file, eskf.time(), eskf.pose());
+    std::fprintf(anchor_file, "\n");
+    anchored = true;
+  };
+  writeAnchorOnce();
   int imu_rejected = 0, awaiting = 0, vision_led = 0, scene_moving = 0, relocalised = 0, errors = 0;
   std::vector<double> frame_ms;  // the filter's wall time per processed frame
 
@@ -247,16 +256,7 @@ int main(int argc, char** argv) {
                      c.w.z());
       }
       if (eskf.addImu(m) != Status::kOk) ++imu_rejected;
-      if (anchor_file && !anchored && !eskf.awaitingAlignment()) {  // the alignment just completed
-        writePose(anchor_file, eskf.time(), eskf.pose());
-        std::fprintf(anchor_file, "\n");
-        anchored = true;
-      }
-    }
-    if (anchor_file && !anchored && !eskf.awaitingAlignment()) {  // the camera models: the reset
-      writePose(anchor_file, eskf.time(), eskf.pose());
-      std::fprintf(anchor_file, "\n");
-      anchored = true;
+      writeAnchorOnce();  // the inertial model: when the alignment completes
     }
     std::map<uint64_t, int> before;
     for (const auto& l : eskf.landmarks()) before[l.id] = 1;

@@ -47,9 +47,7 @@ ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bia
 struct InertialStart {
   NominalState x;  // at the stamp of the window's last sample
   PoseMat C;       // 18 x 18
-  ImuWindowStats window;        // the alignment window, about a zero gyro bias
-  bool still = false;            // window.still
-  double specific_force = 0.0;   // |mean accelerometer| [m/s^2]
+  ImuWindowStats window;  // the alignment window, about a zero gyro bias (window.still: a still start)
 };
 
 // `window`: increasing stamps, at least 2 samples; the model must be the

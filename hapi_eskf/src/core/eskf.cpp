@@ -45,12 +45,6 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// The rotation of an extrinsic must be one (orthonormal, det +1).
-bool isRotation(const Mat3& R) {
-  return R.allFinite() && (R * R.transpose() - Mat3::Identity()).cwiseAbs().maxCoeff() < 1e-6 &&
-         std::abs(R.determinant() - 1.0) < 1e-6;
-}
-
 }  // namespace
 
 Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend,

@@ -15,11 +15,9 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
   InertialStart r;
   r.window = imuWindowStats(window.begin(), window.end(), Vec3::Zero(), s.static_gyro_threshold,
                             s.static_accel_threshold, s);
-  r.still = r.window.still;
   const Vec3 w_mean = r.window.gyro_mean, f_mean = r.window.accel_mean;
-  r.specific_force = f_mean.norm();
   // Below a quarter of g no direction is trustworthy.
-  if (!(r.specific_force > 0.25 * s.gravity_magnitude)) return Status::kEmptyInput;
+  if (!(f_mean.norm() > 0.25 * s.gravity_magnitude)) return Status::kEmptyInput;
 
   // At rest the accelerometer reads -R_wb^T g = |g| R_wb^T z: R_wb takes the
   // mean specific force to +z.
@@ -34,14 +32,14 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
   r.x.has_imu = true;
   r.C = model.initialCovariance();
   const double span = window.back().stamp - window.front().stamp;
-  if (!r.still) {
+  if (!r.window.still) {
     // Moving: the mean specific force is gravity plus the mean acceleration
     // over the window, which the spread bounds; the gravity direction is
     // that uncertain (fast turns: metres per second squared, tens of degrees).
     const double sigma_g = std::max(s.initial_sigma_gravity, r.window.accel_spread);
     r.C.block<3, 3>(kIdxG, kIdxG) = Mat3::Identity() * sigma_g * sigma_g;
   }
-  if (r.still) {
+  if (r.window.still) {
     r.x.b_g = w_mean;
     // Standard error of the mean of white noise of density n over the span.
     const double sigma_bg = s.gyro_noise_density / std::sqrt(std::max(span, 1e-3));

@@ -51,4 +51,9 @@ Eigen::Quaterniond quatExp(const Vec3& phi) {
   return Eigen::Quaterniond(std::cos(0.5 * th), s * a.x(), s * a.y(), s * a.z());
 }
 
+bool isRotation(const Mat3& R) {
+  return R.allFinite() && (R * R.transpose() - Mat3::Identity()).cwiseAbs().maxCoeff() < 1e-6 &&
+         std::abs(R.determinant() - 1.0) < 1e-6;
+}
+
 }  // namespace hapi_eskf

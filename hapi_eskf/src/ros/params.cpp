@@ -5,9 +5,10 @@
 // under ~ that nothing asked the reader for is reported as unknown.
 #include "hapi_eskf/ros/params.hpp"
 
+#include "hapi_eskf/so3.hpp"
+
 #include <hapi_nodelet_kit/time_jump_reset_param.hpp>
 
-#include <cmath>
 #include <utility>
 
 namespace hapi_eskf {
@@ -80,8 +81,7 @@ bool cameraInImuFromKalibr(const std::vector<double>& T_cam_imu, CameraExtrinsic
   for (int i = 0; i < 16; ++i) T(i / 4, i % 4) = T_cam_imu[static_cast<std::size_t>(i)];
   const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
   if (!T.allFinite() || (T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9 ||
-      (R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 ||
-      std::abs(R.determinant() - 1.0) > 1e-6) {
+      !isRotation(R)) {
     *why = "must be a rigid transform (rotation, translation, last row 0 0 0 1)";
     return false;
   }
