@@ -1,7 +1,8 @@
 // The IMU-rate propagation copy must equal the filter after the same IMU
 // samples (pose, pose-block covariance and the camera covariance of the
 // outputs), for the gyro and the inertial model, and reject what the filter
-// rejects.
+// rejects; after a frame in which the scene moved, it follows the surface
+// (the frame-to-frame camera motion) instead of the IMU.
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/pose_propagator.hpp"
 
@@ -104,4 +105,42 @@ TEST(PosePropagator, RejectsWhatTheFilterRejects) {
   EXPECT_NEAR(prop.pose().q.angularDistance(Eigen::Quaterniond::Identity()), 0.02, 1e-9);
   prop.invalidate();
   EXPECT_EQ(prop.step(ImuSample{1.03, Vec3::Zero(), Vec3::Zero()}), Status::kNotInitialised);
+}
+
+// Surface-relative mode: the twist is the motion between the two latest
+// filter poses, the pose extrapolates it, the IMU samples only move the clock.
+TEST(PosePropagator, FollowsTheSurfaceAfterAFrameWithSceneMotion) {
+  EskfSettings s;
+  s.motion_model = MotionModelKind::kGyro;
+  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32));
+  PoseState a, b;
+  a.p = Vec3(0.1, 0.2, 0.3);
+  a.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Vec3(0, 1, 1).normalized()));
+  b.p = Vec3(0.12, 0.19, 0.31);
+  b.q = a.q * Eigen::Quaterniond(Eigen::AngleAxisd(0.02, Vec3(1, 0, 0)));
+  PosePropagator prop(s);
+  ASSERT_EQ(eskf.reset(a, 1.0), Status::kOk);
+  prop.rebase(eskf, true);  // no previous frame: nothing to difference, IMU mode
+  EXPECT_FALSE(prop.surfaceRelative());
+  ASSERT_EQ(eskf.reset(b, 1.1), Status::kOk);
+  prop.rebase(eskf, true);
+  ASSERT_TRUE(prop.surfaceRelative());
+  const Vec3 v = b.q.conjugate() * (b.p - a.p) / 0.1, w = Vec3(0.2, 0, 0);
+  EXPECT_LT((prop.pose().v - v).norm(), 1e-9);
+  EXPECT_LT((prop.pose().w - w).norm(), 1e-9);
+  const Mat12 C0 = prop.cameraCovariance();
+  // A gyro sample that says "turning about z" does not move the surface-relative pose that way.
+  ASSERT_EQ(prop.step(ImuSample{1.15, Vec3(0, 0, 2.0), Vec3::Zero()}), Status::kOk);
+  EXPECT_LT((prop.pose().p - (b.p + b.q * (v * 0.05))).norm(), 1e-9);
+  const Eigen::Quaterniond q_expected = b.q * Eigen::Quaterniond(Eigen::AngleAxisd(0.2 * 0.05, Vec3::UnitX()));
+  EXPECT_LT(prop.pose().q.angularDistance(q_expected), 1e-9);
+  EXPECT_GT(prop.cameraCovariance()(0, 0), C0(0, 0));  // the extrapolation's uncertainty grows
+  EXPECT_EQ(prop.step(ImuSample{1.16, Vec3(NAN, 0, 0), Vec3::Zero()}), Status::kNonFinite);
+  EXPECT_EQ(prop.step(ImuSample{1.14, Vec3::Zero(), Vec3::Zero()}), Status::kInvalidArgument);
+  // The next frame without scene motion: back to the IMU.
+  ASSERT_EQ(eskf.reset(b, 1.2), Status::kOk);
+  prop.rebase(eskf, false);
+  EXPECT_FALSE(prop.surfaceRelative());
+  ASSERT_EQ(prop.step(ImuSample{1.21, Vec3(0, 0, 2.0), Vec3::Zero()}), Status::kOk);
+  EXPECT_GT(prop.pose().q.angularDistance(b.q), 0.015);
 }

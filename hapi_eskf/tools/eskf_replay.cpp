@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
                    c.w.x(), c.w.y(), c.w.z());
     }
     relocalised += rep.relocalised;
-    if (use_imu && st == Status::kOk) imu_rate.rebase(eskf);
+    if (use_imu && st == Status::kOk) imu_rate.rebase(eskf, rep.scene_moving);
     errors += st != Status::kOk;
     vision_led += rep.vision_led;
     scene_moving += rep.scene_moving;

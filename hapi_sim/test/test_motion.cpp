@@ -148,6 +148,24 @@ TEST(Imu, GravitySignAtRest) {
   EXPECT_LT(std::abs(d.accel.z()), 0.25 * kGravity);
 }
 
+// The standing-still scenario: the device on a stand does not move at all
+// (the filter's drift there is then all its own), in a static scene.
+TEST(Trajectories, RestNeverMoves) {
+  TrajectoryKind kind;
+  ASSERT_TRUE(parseTrajectoryKind("rest", &kind));
+  EXPECT_EQ(trajectoryName(kind), "rest");
+  const auto device = makeDeviceMotion(kind, skinView(), 3);
+  const MotionSample s0 = device->sample(0.0);
+  for (double t = 0.0; t < 30.0; t += 0.37) {
+    const MotionSample s = device->sample(t);
+    EXPECT_LT((s.p - s0.p).norm(), 1e-15);
+    EXPECT_LT(s.q.angularDistance(s0.q), 1e-12);
+    EXPECT_LT(s.v.norm() + s.a.norm() + s.omega.norm() + s.alpha.norm(), 1e-12);
+  }
+  const auto scene = makeSceneMotion(kind, skinView(), 3);
+  EXPECT_LT(scene->sample(7.0).p.norm() + scene->sample(7.0).v.norm(), 1e-15);
+}
+
 // Noise on: white-noise standard deviation = density * sqrt(rate), bias
 // increments = random walk / sqrt(rate), turn-on bias seeded.
 TEST(Imu, NoiseStatisticsMatchTheDensities) {

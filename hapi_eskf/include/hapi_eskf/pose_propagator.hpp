@@ -16,6 +16,16 @@
 // as in the CPU backend), independently of the landmark blocks. After the
 // same samples this copy therefore equals the filter's pose and pose
 // covariance (checked in test/test_pose_propagator.cpp).
+//
+// Surface-relative mode (docs/DESIGN.md "Scene motion"): after a frame in
+// which the scanned surface moved while the device was still
+// (IterationReport::scene_moving), the IMU measures the device, not the
+// camera's motion relative to the surface, which is what the output stands
+// for (the filter's pose there follows the map). Until the next frame the
+// copy then extrapolates the last frame-to-frame camera motion (twist from
+// the two latest filter poses) instead of integrating the IMU, so pose and
+// twist stay relative to the surface, at the IMU rate but with the frames'
+// bandwidth.
 #pragma once
 
 #include "hapi_eskf/eskf.hpp"
@@ -31,10 +41,15 @@ class PosePropagator {
  public:
   explicit PosePropagator(const EskfSettings& settings) : settings_(settings) {}
 
-  // Start from the filter's state (after a processed frame).
-  void rebase(const Eskf& filter);
+  // Start from the filter's state (after a processed frame); scene_moving:
+  // that frame's IterationReport::scene_moving (surface-relative mode above).
+  void rebase(const Eskf& filter, bool scene_moving = false);
   // Forget the state (filter reset): step() fails until the next rebase().
-  void invalidate() { model_.reset(); }
+  void invalidate() {
+    model_.reset();
+    have_previous_ = false;
+  }
+  bool surfaceRelative() const { return relative_; }
   bool valid() const { return model_ != nullptr; }
 
   // One IMU step to the sample's stamp (predictStep's checks:
@@ -55,6 +70,17 @@ class PosePropagator {
   NominalState x_;
   PoseMat C_;
   double time_ = 0.0;
+  // The previous frame's camera pose and covariance (surface-relative twist).
+  bool have_previous_ = false;
+  PoseState previous_;
+  Mat12 previous_C_ = Mat12::Zero();
+  double previous_time_ = 0.0;
+  // Surface-relative mode: the frame's camera and its covariance with the
+  // frame-to-frame twist, extrapolated from frame_time_.
+  bool relative_ = false;
+  PoseState frame_camera_;
+  Mat12 frame_C_ = Mat12::Zero();
+  double frame_time_ = 0.0;
 };
 
 }  // namespace hapi_eskf

@@ -209,10 +209,18 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
   if (settings.ransac_iterations > 0 && cand_meas.size() >= 6) {
     std::vector<Vec3> X(cand_meas.size()), Z(cand_meas.size());
     std::vector<Mat3> W(cand_meas.size()), Cz(cand_meas.size());
+    const Mat3 R_cam = pose.q.toRotationMatrix();
     for (std::size_t c = 0; c < cand_meas.size(); ++c) {
       X[c] = positions[cand_slot[c]];
       Z[c] = frame.measurements[cand_meas[c]].z;
-      W[c] = M[c].block<3, 3>(6, 6);
+      // The map's own noise per point, not the landmark's marginal: the fit's
+      // free R, t absorb the error the whole map shares (the pose it was
+      // built from), and that shared part dominates the marginal right after
+      // a start or an outage (cm while the velocity is unknown), which would
+      // let wrong associations through. What a rigid fit cannot absorb is
+      // each point's own noise from its initialisation, of the size of its
+      // measurement noise now (docs/DESIGN.md "Gate each association").
+      W[c] = R_cam * frame.measurements[cand_meas[c]].Cz * R_cam.transpose();
       Cz[c] = frame.measurements[cand_meas[c]].Cz;
     }
     const std::vector<char> inl =

@@ -371,7 +371,7 @@ bool EskfNodelet::process(Work& w) {
   stats_->recordFrame(rep, eskf_->numLandmarks(), eskf_->backend().memoryBytes());
   last_stamp_ = w.stamp;
   const ros_glue::CameraInMap T_map_cam =
-      output_->publishFrame(w.stamp, w.frame_id, *eskf_);
+      output_->publishFrame(w.stamp, w.frame_id, *eskf_, rep.scene_moving);
   trajectory_->record(w.stamp, T_map_cam);
   return true;
 }

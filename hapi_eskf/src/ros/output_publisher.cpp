@@ -37,7 +37,7 @@ Eigen::Isometry3d OutputPublisher::mapFromWorld() const {
 }
 
 CameraInMap OutputPublisher::publishFrame(const ros::Time& stamp, const std::string& camera_frame,
-                                          const Eskf& filter) {
+                                          const Eskf& filter, bool scene_moving) {
   std::lock_guard<std::mutex> lk(mu_);
   camera_frame_ = camera_frame;
   const PoseState pose = filter.pose();
@@ -47,7 +47,7 @@ CameraInMap OutputPublisher::publishFrame(const ros::Time& stamp, const std::str
   // corrected state reaches the next ones through the re-based propagation.
   if (stamp.toSec() > last_output_stamp_) publish(stamp, pose, filter.cameraCovariance(), T_map_cam);
   if (propagator_) {
-    propagator_->rebase(filter);
+    propagator_->rebase(filter, scene_moving);
     // Catch up with the samples already received after this frame (their
     // outputs are out already unless one arrived during this block).
     for (const TimedImuSample& s : imu_->samplesAfter(filter.time())) stepAndPublish(s);

@@ -7,6 +7,7 @@
 //   fast      1.7 Hz swipe (>= 1 m/s) + 1 Hz roll (>= 3 rad/s) + tremor
 //   loop      leaves the start area (sideways / full orbit) and returns; sway + tremor
 //   subject   device held still (tremor only); the scene moves cm and degrees at 0.5-2 Hz
+//   rest      device on a stand (no hand motion at all), scene static: the standing-still drift
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -19,7 +20,7 @@
 
 namespace hapi_sim {
 
-enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject };
+enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest };
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind);
 std::string trajectoryName(TrajectoryKind kind);
 
@@ -65,8 +66,9 @@ std::unique_ptr<RigidMotion> makeSmoothTrajectory(const ViewGeometry& view);
 std::unique_ptr<RigidMotion> makeHandheldTrajectory(const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeFastTrajectory(const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeLoopTrajectory(const ViewGeometry& view, uint32_t seed);
-// Subject motion: the device held still (tremor only, no sway) ...
-std::unique_ptr<RigidMotion> makeStillTrajectory(const ViewGeometry& view, uint32_t seed);
+// Subject motion: the device held still (tremor only, no sway; without
+// tremor: on a stand) ...
+std::unique_ptr<RigidMotion> makeStillTrajectory(const ViewGeometry& view, uint32_t seed, bool tremor = true);
 // ... while the scene moves: a few cm and degrees at 0.5-2 Hz about the view centre.
 std::unique_ptr<RigidMotion> makeSubjectSceneMotion(const ViewGeometry& view, uint32_t seed);
 

@@ -11,7 +11,7 @@ namespace {
 
 class StillDevice : public RigidMotion {
  public:
-  StillDevice(const ViewGeometry& v, uint32_t seed) : view_(v), hand_(seed, true, false) {}
+  StillDevice(const ViewGeometry& v, uint32_t seed, bool tremor) : view_(v), hand_(seed, tremor, false) {}
   PoseT<Jet2> evaluate(const Jet2& t) const override {
     const V3<Jet2> O(view_.centre), b(view_.up), n(view_.normal());
     PoseT<Jet2> base;
@@ -52,8 +52,8 @@ class SubjectMotion : public RigidMotion {
 
 }  // namespace
 
-std::unique_ptr<RigidMotion> makeStillTrajectory(const ViewGeometry& view, uint32_t seed) {
-  return std::make_unique<StillDevice>(view, seed);
+std::unique_ptr<RigidMotion> makeStillTrajectory(const ViewGeometry& view, uint32_t seed, bool tremor) {
+  return std::make_unique<StillDevice>(view, seed, tremor);
 }
 
 std::unique_ptr<RigidMotion> makeSubjectSceneMotion(const ViewGeometry& view, uint32_t seed) {

@@ -42,8 +42,11 @@ class OutputPublisher {
   Eigen::Isometry3d mapFromWorld() const;
   // After a processed frame: publishes its pose (unless the IMU-rate output
   // is already past it), re-bases the IMU-rate copy and catches up with the
-  // samples already received. Returns T_map_cam of the frame (for the path).
-  CameraInMap publishFrame(const ros::Time& stamp, const std::string& camera_frame, const Eskf& filter);
+  // samples already received. scene_moving: the frame's
+  // IterationReport::scene_moving (the IMU-rate copy then follows the
+  // surface, pose_propagator.hpp). Returns T_map_cam of the frame (for the path).
+  CameraInMap publishFrame(const ros::Time& stamp, const std::string& camera_frame, const Eskf& filter,
+                           bool scene_moving);
   // Filter reset: the new timeline may start earlier; the copy is void.
   void restart();
 
