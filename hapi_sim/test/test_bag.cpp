@@ -25,6 +25,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "bag_contents.hpp"
 #include "hapi_sim/globe_sim.hpp"
 
 #ifndef MAKE_GLOBE_BAG
@@ -82,10 +83,7 @@ uint64_t payloadHash(const std::string& path) {
 }
 
 // Everything the geometric tests need, read back from one bag.
-struct BagData {
-  std::map<std::string, std::string> types;
-  std::map<std::string, int> counts;
-  std::map<std::string, bool> latched;
+struct BagData : hapi_sim_test::BagTopics {
   std::vector<sensor_msgs::Image> left, right;
   std::vector<sensor_msgs::CameraInfo> info_l, info_r;
   std::vector<geometry_msgs::PoseStamped> gt;
@@ -95,26 +93,18 @@ struct BagData {
 };
 
 BagData readBag(const std::string& path) {
+  using hapi_sim_test::readMessages;
   BagData d;
-  rosbag::Bag bag(path, rosbag::bagmode::Read);
-  rosbag::View view(bag);
-  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
-    d.types[c->topic] = c->datatype;
-    d.latched[c->topic] = c->header && c->header->count("latching") && c->header->at("latching") == "1";
-  }
-  for (const rosbag::MessageInstance& m : view) {
-    const std::string& t = m.getTopic();
-    d.counts[t]++;
-    if (t == "/stereo/left/image_raw") d.left.push_back(*m.instantiate<sensor_msgs::Image>());
-    else if (t == "/stereo/right/image_raw") d.right.push_back(*m.instantiate<sensor_msgs::Image>());
-    else if (t == "/stereo/left/camera_info") d.info_l.push_back(*m.instantiate<sensor_msgs::CameraInfo>());
-    else if (t == "/stereo/right/camera_info") d.info_r.push_back(*m.instantiate<sensor_msgs::CameraInfo>());
-    else if (t == "/ground_truth/pose") d.gt.push_back(*m.instantiate<geometry_msgs::PoseStamped>());
-    else if (t == "/tf") d.tf.push_back(*m.instantiate<tf2_msgs::TFMessage>());
-    else if (t == "/tf_static") d.tf_static.push_back(*m.instantiate<tf2_msgs::TFMessage>());
-    else if (t == "/imu/data") d.imu.push_back(*m.instantiate<sensor_msgs::Imu>());
-    else if (t == "/globe/info") d.globe.push_back(m.instantiate<std_msgs::String>()->data);
-  }
+  static_cast<hapi_sim_test::BagTopics&>(d) = hapi_sim_test::readBagTopics(path);
+  d.left = readMessages<sensor_msgs::Image>(path, "/stereo/left/image_raw");
+  d.right = readMessages<sensor_msgs::Image>(path, "/stereo/right/image_raw");
+  d.info_l = readMessages<sensor_msgs::CameraInfo>(path, "/stereo/left/camera_info");
+  d.info_r = readMessages<sensor_msgs::CameraInfo>(path, "/stereo/right/camera_info");
+  d.gt = readMessages<geometry_msgs::PoseStamped>(path, "/ground_truth/pose");
+  d.tf = readMessages<tf2_msgs::TFMessage>(path, "/tf");
+  d.tf_static = readMessages<tf2_msgs::TFMessage>(path, "/tf_static");
+  d.imu = readMessages<sensor_msgs::Imu>(path, "/imu/data");
+  for (const std_msgs::String& m : readMessages<std_msgs::String>(path, "/globe/info")) d.globe.push_back(m.data);
   return d;
 }
 

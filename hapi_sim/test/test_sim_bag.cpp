@@ -20,6 +20,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "bag_contents.hpp"
 #include "hapi_sim/scenario.hpp"
 
 #ifndef MAKE_SIM_BAG
@@ -42,38 +43,28 @@ std::string fileBytes(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
 }
 
-struct BagData {
-  std::map<std::string, std::string> types;
-  std::map<std::string, int> counts;
-  std::map<std::string, bool> latched;
+struct BagData : hapi_sim_test::BagTopics {
   std::vector<sensor_msgs::Image> left, right;
   std::vector<geometry_msgs::PoseStamped> gt;
   std::vector<nav_msgs::Odometry> odom, imu_odom;
   std::vector<sensor_msgs::Imu> imu;
   std::vector<tf2_msgs::TFMessage> tf_static;
-  std::map<std::string, std::string> text;
+  std::map<std::string, std::string> text;  // the last std_msgs/String of each such topic
 };
 
 BagData readBag(const std::string& path) {
+  using hapi_sim_test::readMessages;
   BagData d;
-  rosbag::Bag bag(path, rosbag::bagmode::Read);
-  rosbag::View view(bag);
-  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
-    d.types[c->topic] = c->datatype;
-    d.latched[c->topic] = c->header && c->header->count("latching") && c->header->at("latching") == "1";
-  }
-  for (const rosbag::MessageInstance& m : view) {
-    const std::string& t = m.getTopic();
-    d.counts[t]++;
-    if (t == "/stereo/left/image_raw") d.left.push_back(*m.instantiate<sensor_msgs::Image>());
-    else if (t == "/stereo/right/image_raw") d.right.push_back(*m.instantiate<sensor_msgs::Image>());
-    else if (t == "/ground_truth/pose") d.gt.push_back(*m.instantiate<geometry_msgs::PoseStamped>());
-    else if (t == "/ground_truth/odometry") d.odom.push_back(*m.instantiate<nav_msgs::Odometry>());
-    else if (t == "/ground_truth/imu_odometry") d.imu_odom.push_back(*m.instantiate<nav_msgs::Odometry>());
-    else if (t == "/imu/data") d.imu.push_back(*m.instantiate<sensor_msgs::Imu>());
-    else if (t == "/tf_static") d.tf_static.push_back(*m.instantiate<tf2_msgs::TFMessage>());
-    else if (m.getDataType() == "std_msgs/String") d.text[t] = m.instantiate<std_msgs::String>()->data;
-  }
+  static_cast<hapi_sim_test::BagTopics&>(d) = hapi_sim_test::readBagTopics(path);
+  d.left = readMessages<sensor_msgs::Image>(path, "/stereo/left/image_raw");
+  d.right = readMessages<sensor_msgs::Image>(path, "/stereo/right/image_raw");
+  d.gt = readMessages<geometry_msgs::PoseStamped>(path, "/ground_truth/pose");
+  d.odom = readMessages<nav_msgs::Odometry>(path, "/ground_truth/odometry");
+  d.imu_odom = readMessages<nav_msgs::Odometry>(path, "/ground_truth/imu_odometry");
+  d.imu = readMessages<sensor_msgs::Imu>(path, "/imu/data");
+  d.tf_static = readMessages<tf2_msgs::TFMessage>(path, "/tf_static");
+  for (const auto& [topic, type] : d.types)
+    if (type == "std_msgs/String") d.text[topic] = readMessages<std_msgs::String>(path, topic).back().data;
   return d;
 }
 

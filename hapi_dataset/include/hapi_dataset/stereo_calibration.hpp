@@ -10,18 +10,9 @@
 #include <vector>
 
 #include "hapi_dataset/asl_sensor.hpp"
+#include "hapi_dataset/camera_info.hpp"
 
 namespace hapi_dataset {
-
-// sensor_msgs/CameraInfo without ROS (row-major K, R, P).
-struct CameraInfoData {
-  int width = 0, height = 0;
-  std::string distortion_model = "plumb_bob";
-  std::vector<double> D;  // k1 k2 p1 p2 k3
-  std::array<double, 9> K{};
-  std::array<double, 9> R{};
-  std::array<double, 12> P{};
-};
 
 struct StereoCalibration {
   CameraInfoData left, right;

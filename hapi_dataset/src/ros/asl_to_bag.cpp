@@ -41,6 +41,8 @@
 #include <vector>
 
 #include "hapi_dataset/asl_recording.hpp"
+#include "hapi_dataset/command_line.hpp"
+#include "hapi_dataset/ros/bag_messages.hpp"
 #include "hapi_dataset/rig_frames.hpp"
 #include "hapi_dataset/stereo_calibration.hpp"
 
@@ -48,11 +50,7 @@ namespace {
 
 using namespace hapi_dataset;
 
-constexpr const char* kWorld = "world";
-constexpr const char* kLeft = "stereo_left_optical_frame";
-constexpr const char* kRight = "stereo_right_optical_frame";
-constexpr const char* kImu = "imu_link";
-constexpr const char* kGt = "ground_truth/stereo_left_optical_frame";
+using namespace hapi_dataset::recording_frames;
 
 struct Options {
   std::string asl, output;
@@ -66,30 +64,16 @@ struct Options {
   std::exit(2);
 }
 
-double number(const std::string& key, const std::string& v) {
-  char* end = nullptr;
-  const double d = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end != '\0' || !std::isfinite(d)) usage("invalid number for " + key + ": '" + v + "'");
-  return d;
-}
-
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    if (k == "-h" || k == "--help") usage("help");
-    if (i + 1 >= argc) usage("missing value for " + k);
-    const std::string v = argv[++i];
+  forEachOption(argc, argv, usage, [&](const std::string& k, const std::string& v) {
     if (k == "--asl") o.asl = v;
     else if (k == "--output") o.output = v;
-    else if (k == "--start") o.start = number(k, v);
-    else if (k == "--duration") o.duration = number(k, v);
-    else if (k == "--rate-divisor") {
-      const double n = number(k, v);
-      if (n < 1 || n > 1000 || n != std::floor(n)) usage("--rate-divisor must be an integer in [1, 1000]");
-      o.rate_divisor = static_cast<long>(n);
-    } else usage("unknown option " + k);
-  }
+    else if (k == "--start") o.start = parseNumberArg(k, v);
+    else if (k == "--duration") o.duration = parseNumberArg(k, v);
+    else if (k == "--rate-divisor") o.rate_divisor = static_cast<long>(parseIntegerArg(k, v, 1, 1000));
+    else usage("unknown option " + k);
+  });
   if (o.asl.empty() || o.output.empty()) usage("--asl and --output are required");
   if (o.start < 0) usage("--start must be >= 0");
   if (o.duration == 0 || o.duration < -1) usage("--duration must be > 0");
@@ -99,19 +83,6 @@ Options parse(int argc, char** argv) {
 ros::Time stamp(int64_t ns) {
   const SecNsec s = toSecNsec(ns);
   return ros::Time(s.sec, s.nsec);
-}
-
-sensor_msgs::CameraInfo toMsg(const CameraInfoData& d, const std_msgs::Header& h) {
-  sensor_msgs::CameraInfo m;
-  m.header = h;
-  m.width = d.width;
-  m.height = d.height;
-  m.distortion_model = d.distortion_model;
-  m.D = d.D;
-  std::copy(d.K.begin(), d.K.end(), m.K.begin());
-  std::copy(d.R.begin(), d.R.end(), m.R.begin());
-  std::copy(d.P.begin(), d.P.end(), m.P.begin());
-  return m;
 }
 
 sensor_msgs::ImagePtr loadMono(const std::string& png, const std_msgs::Header& h, const CameraSensor& cam) {
@@ -138,29 +109,7 @@ geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
 
 geometry_msgs::TransformStamped toTransform(const ros::Time& t, const std::string& parent, const std::string& child,
                                             const Eigen::Isometry3d& T) {
-  geometry_msgs::TransformStamped tf;
-  tf.header.stamp = t;
-  tf.header.frame_id = parent;
-  tf.child_frame_id = child;
-  const geometry_msgs::Pose p = toPose(T);
-  tf.transform.translation.x = p.position.x;
-  tf.transform.translation.y = p.position.y;
-  tf.transform.translation.z = p.position.z;
-  tf.transform.rotation = p.orientation;
-  return tf;
-}
-
-// Latched connections need an explicit connection header so that
-// `rosbag play` re-advertises them latched.
-template <class M>
-boost::shared_ptr<ros::M_string> latchedHeader() {
-  auto h = boost::make_shared<ros::M_string>();
-  (*h)["type"] = ros::message_traits::datatype<M>();
-  (*h)["md5sum"] = ros::message_traits::md5sum<M>();
-  (*h)["message_definition"] = ros::message_traits::definition<M>();
-  (*h)["callerid"] = "/asl_to_bag";
-  (*h)["latching"] = "1";
-  return h;
+  return toTransformMsg(t, parent, child, T.translation(), Eigen::Quaterniond(T.linear()));
 }
 
 // Writing order at equal stamps: IMU first (a filter predicts up to the
@@ -213,12 +162,12 @@ int main(int argc, char** argv) {
     tf2_msgs::TFMessage st;
     st.transforms.push_back(toTransform(t0, kLeft, kRight, calib.T_left_right));
     st.transforms.push_back(toTransform(t0, kLeft, kImu, imuInCamera(rec.cam0, rec.imu0)));
-    bag.write("/tf_static", t0, st, latchedHeader<tf2_msgs::TFMessage>());
+    bag.write("/tf_static", t0, st, latchedHeader<tf2_msgs::TFMessage>("/asl_to_bag"));
   }
   if (!rec.scene_yaml.empty()) {
     std_msgs::String scene;
     scene.data = rec.scene_yaml;
-    bag.write("/ground_truth/scene", t0, scene, latchedHeader<std_msgs::String>());
+    bag.write("/ground_truth/scene", t0, scene, latchedHeader<std_msgs::String>("/asl_to_bag"));
   }
   std::cerr << "[asl_to_bag] " << rec.mav0 << " -> " << opt.output << ": baseline " << calib.baseline << " m, "
             << events.size() << " messages to write\n";
@@ -277,8 +226,8 @@ int main(int argc, char** argv) {
         hl.seq = hr.seq = seq++;
         hl.frame_id = kLeft;
         hr.frame_id = kRight;
-        bag.write("/stereo/left/camera_info", t, toMsg(calib.left, hl));
-        bag.write("/stereo/right/camera_info", t, toMsg(calib.right, hr));
+        bag.write("/stereo/left/camera_info", t, toCameraInfoMsg(calib.left, hl));
+        bag.write("/stereo/right/camera_info", t, toCameraInfoMsg(calib.right, hr));
         bag.write("/stereo/left/image_raw", t, *loadMono(f.left_png, hl, rec.cam0));
         bag.write("/stereo/right/image_raw", t, *loadMono(f.right_png, hr, rec.cam1));
         if (seq % 100 == 0) std::cerr << "[asl_to_bag] frame " << seq << "\n";

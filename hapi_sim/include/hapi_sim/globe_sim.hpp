@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "hapi_dataset/camera_info.hpp"
+
 namespace hapi_sim {
 
 struct Pose {
@@ -31,15 +33,8 @@ struct CameraModel {
   double k1 = 0.0, k2 = 0.0, p1 = 0.0, p2 = 0.0, k3 = 0.0;
 };
 
-// Plain mirror of sensor_msgs/CameraInfo (row-major arrays).
-struct CameraInfoData {
-  int width = 0, height = 0;
-  std::string distortion_model = "plumb_bob";
-  std::vector<double> D;   // k1 k2 p1 p2 k3
-  std::array<double, 9> K{};
-  std::array<double, 9> R{};
-  std::array<double, 12> P{};
-};
+// Plain mirror of sensor_msgs/CameraInfo, the recording tools' one type.
+using CameraInfoData = hapi_dataset::CameraInfoData;
 
 // Stereo rig: right camera = left camera translated by +baseline along the
 // left x axis, identity relative rotation. Images are NOT rectified (they carry

@@ -15,48 +15,6 @@ ros::Time stampAt(int64_t ns) {
   return ros::Time(static_cast<uint32_t>(total / 1000000000LL), static_cast<uint32_t>(total % 1000000000LL));
 }
 
-sensor_msgs::CameraInfo toCameraInfoMsg(const CameraInfoData& d, const std_msgs::Header& h) {
-  sensor_msgs::CameraInfo m;
-  m.header = h;
-  m.width = d.width;
-  m.height = d.height;
-  m.distortion_model = d.distortion_model;
-  m.D = d.D;
-  for (int i = 0; i < 9; ++i) { m.K[i] = d.K[i]; m.R[i] = d.R[i]; }
-  for (int i = 0; i < 12; ++i) m.P[i] = d.P[i];
-  return m;
-}
-
-sensor_msgs::Image toImageMsg(const cv::Mat& mono, const std_msgs::Header& h) {
-  sensor_msgs::Image m;
-  m.header = h;
-  m.height = mono.rows;
-  m.width = mono.cols;
-  m.encoding = "mono8";
-  m.is_bigendian = 0;
-  m.step = mono.cols;
-  m.data.resize(static_cast<size_t>(mono.rows) * mono.cols);
-  for (int r = 0; r < mono.rows; ++r)
-    std::copy(mono.ptr<uint8_t>(r), mono.ptr<uint8_t>(r) + mono.cols, m.data.begin() + static_cast<size_t>(r) * mono.cols);
-  return m;
-}
-
-geometry_msgs::TransformStamped toTransformMsg(const ros::Time& t, const std::string& parent, const std::string& child,
-                                               const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
-  geometry_msgs::TransformStamped tf;
-  tf.header.stamp = t;
-  tf.header.frame_id = parent;
-  tf.child_frame_id = child;
-  tf.transform.translation.x = p.x();
-  tf.transform.translation.y = p.y();
-  tf.transform.translation.z = p.z();
-  tf.transform.rotation.x = q.x();
-  tf.transform.rotation.y = q.y();
-  tf.transform.rotation.z = q.z();
-  tf.transform.rotation.w = q.w();
-  return tf;
-}
-
 nav_msgs::Odometry toOdometryMsg(const ros::Time& t, const std::string& frame, const std::string& child,
                                  const MotionSample& m) {
   nav_msgs::Odometry o;
@@ -90,18 +48,6 @@ std::string globeInfoYaml(double radius, const Eigen::Vector3d& centre, const st
     << "seed: " << seed << "\n"
     << "texture: \"" << texture << "\"\n";
   return y.str();
-}
-
-double parseNumberArg(const std::string& key, const std::string& v) {
-  size_t n = 0;
-  double d = 0;
-  try {
-    d = std::stod(v, &n);
-  } catch (const std::exception&) {
-    n = 0;
-  }
-  if (n != v.size() || n == 0 || !std::isfinite(d)) throw std::invalid_argument("invalid number for " + key + ": '" + v + "'");
-  return d;
 }
 
 }  // namespace hapi_sim

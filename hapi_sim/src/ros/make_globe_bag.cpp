@@ -43,11 +43,7 @@ using hapi_sim::CameraInfoData;
 using hapi_sim::Pose;
 using hapi_sim::stampAt;
 
-constexpr const char* kWorld = "world";
-constexpr const char* kLeft = "stereo_left_optical_frame";
-constexpr const char* kRight = "stereo_right_optical_frame";
-constexpr const char* kImu = "imu_link";
-constexpr const char* kGt = "ground_truth/stereo_left_optical_frame";
+using namespace hapi_dataset::recording_frames;
 
 // IMU model (a consumer MEMS part, BMI088-class): white noise densities,
 // turn-on bias (constant per seed) and bias random walk.
@@ -79,35 +75,19 @@ struct Options {
   std::exit(2);
 }
 
-double parseDouble(const std::string& key, const std::string& v) {
-  try {
-    return hapi_sim::parseNumberArg(key, v);
-  } catch (const std::invalid_argument& e) {
-    usage(e.what());
-  }
-}
-
 Options parse(int argc, char** argv) {
+  using hapi_dataset::parseNumberArg;
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    if (k == "-h" || k == "--help") usage("help");
-    if (i + 1 >= argc) usage("missing value for " + k);
-    const std::string v = argv[++i];
+  hapi_dataset::forEachOption(argc, argv, usage, [&](const std::string& k, const std::string& v) {
     if (k == "--output") o.output = v;
-    else if (k == "--seed") {
-      const double s = parseDouble(k, v);
-      if (s < 0 || s > 4294967295.0 || s != std::floor(s)) usage("--seed must be an integer in [0, 2^32)");
-      o.seed = static_cast<uint32_t>(s);
-    } else if (k == "--duration") o.duration = parseDouble(k, v);
-    else if (k == "--rate") o.rate = parseDouble(k, v);
-    else if (k == "--imu") {
-      if (v != "0" && v != "1") usage("--imu must be 0 or 1");
-      o.imu = v == "1";
-    } else if (k == "--texture") o.texture = v;
-    else if (k == "--noise") o.noise = parseDouble(k, v);
+    else if (k == "--seed") o.seed = static_cast<uint32_t>(hapi_dataset::parseIntegerArg(k, v, 0, 4294967295LL));
+    else if (k == "--duration") o.duration = parseNumberArg(k, v);
+    else if (k == "--rate") o.rate = parseNumberArg(k, v);
+    else if (k == "--imu") o.imu = hapi_dataset::parseFlagArg(k, v);
+    else if (k == "--texture") o.texture = v;
+    else if (k == "--noise") o.noise = parseNumberArg(k, v);
     else usage("unknown option " + k);
-  }
+  });
   if (o.output.empty()) usage("--output is required");
   if (!(o.duration > 0 && o.duration <= 3600)) usage("--duration must be in (0, 3600] s");
   if (!(o.rate > 0 && o.rate <= 100)) usage("--rate must be in (0, 100] Hz");

@@ -44,12 +44,8 @@ namespace {
 
 using namespace hapi_sim;
 
-constexpr const char* kWorld = "world";
+using namespace hapi_dataset::recording_frames;
 constexpr const char* kInertial = "inertial";
-constexpr const char* kLeft = "stereo_left_optical_frame";
-constexpr const char* kRight = "stereo_right_optical_frame";
-constexpr const char* kImu = "imu_link";
-constexpr const char* kGt = "ground_truth/stereo_left_optical_frame";
 constexpr const char* kGtImu = "ground_truth/imu_link";
 constexpr const char* kCaller = "/make_sim_bag";
 
@@ -69,53 +65,32 @@ struct Options {
   std::exit(2);
 }
 
-double number(const std::string& k, const std::string& v) {
-  try {
-    return parseNumberArg(k, v);
-  } catch (const std::invalid_argument& e) {
-    usage(e.what());
-  }
-}
-
-bool flag(const std::string& k, const std::string& v) {
-  if (v != "0" && v != "1") usage(k + " must be 0 or 1");
-  return v == "1";
-}
-
 Options parse(int argc, char** argv) {
+  using hapi_dataset::parseFlagArg;
+  using hapi_dataset::parseNumberArg;
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    if (k == "-h" || k == "--help") usage("help");
-    if (i + 1 >= argc) usage("missing value for " + k);
-    const std::string v = argv[++i];
+  hapi_dataset::forEachOption(argc, argv, usage, [&](const std::string& k, const std::string& v) {
     if (k == "--scene") {
       if (!parseSceneKind(v, &o.cfg.scene)) usage("--scene must be globe or skin");
       o.have_scene = true;
     } else if (k == "--trajectory") {
-      if (!parseTrajectoryKind(v, &o.cfg.trajectory)) usage("--trajectory must be smooth, handheld, fast, loop or subject");
+      if (!parseTrajectoryKind(v, &o.cfg.trajectory)) usage("unknown --trajectory " + v);
       o.have_trajectory = true;
-    } else if (k == "--seed") {
-      const double s = number(k, v);
-      if (s < 0 || s > 4294967295.0 || s != std::floor(s)) usage("--seed must be an integer in [0, 2^32)");
-      o.cfg.seed = static_cast<uint32_t>(s);
-    } else if (k == "--duration") o.cfg.duration = number(k, v);
-    else if (k == "--rate") o.cfg.rate = number(k, v);
-    else if (k == "--imu-rate") o.cfg.imu_rate = number(k, v);
+    } else if (k == "--seed") o.cfg.seed = static_cast<uint32_t>(hapi_dataset::parseIntegerArg(k, v, 0, 4294967295LL));
+    else if (k == "--duration") o.cfg.duration = parseNumberArg(k, v);
+    else if (k == "--rate") o.cfg.rate = parseNumberArg(k, v);
+    else if (k == "--imu-rate") o.cfg.imu_rate = parseNumberArg(k, v);
     else if (k == "--output") o.output = v;
     else if (k == "--asl") o.asl = v;
-    else if (k == "--exposure-ms") o.cfg.exposure = 1e-3 * number(k, v);
-    else if (k == "--blur-samples") {
-      const double n = number(k, v);
-      if (n != std::floor(n)) usage("--blur-samples must be an integer");
-      o.cfg.blur_samples = static_cast<int>(std::max(-1.0, std::min(n, 1000.0)));
-    } else if (k == "--photometric") o.cfg.photometric = flag(k, v);
-    else if (k == "--image-noise") o.cfg.image_noise = flag(k, v);
-    else if (k == "--imu-noise") o.cfg.imu_noise = flag(k, v);
-    else if (k == "--image-scale") o.cfg.image_scale = number(k, v);
+    else if (k == "--exposure-ms") o.cfg.exposure = 1e-3 * parseNumberArg(k, v);
+    else if (k == "--blur-samples") o.cfg.blur_samples = static_cast<int>(hapi_dataset::parseIntegerArg(k, v, -1, 1000));
+    else if (k == "--photometric") o.cfg.photometric = parseFlagArg(k, v);
+    else if (k == "--image-noise") o.cfg.image_noise = parseFlagArg(k, v);
+    else if (k == "--imu-noise") o.cfg.imu_noise = parseFlagArg(k, v);
+    else if (k == "--image-scale") o.cfg.image_scale = parseNumberArg(k, v);
     else if (k == "--texture") o.cfg.globe_texture = v;
     else usage("unknown option " + k);
-  }
+  });
   if (!o.have_scene || !o.have_trajectory) usage("--scene and --trajectory are required");
   if (o.output.empty() && o.asl.empty()) usage("give --output FILE.bag and/or --asl DIR");
   const std::string err = o.cfg.validate();

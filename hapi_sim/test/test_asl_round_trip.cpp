@@ -1,5 +1,5 @@
 // Round trip through the standard ASL layout: hapi_sim's writer puts a short
-// simulated scenario on disk, this package's reader reads it back, and every
+// simulated scenario on disk, hapi_dataset's reader reads it back, and every
 // number the system uses must survive: frame and IMU stamps (images on the
 // camera clock), the IMU readings, the body ground truth, the camera-IMU
 // extrinsic, the noise densities, the stereo baseline after rectification and

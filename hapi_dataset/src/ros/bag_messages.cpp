@@ -1,0 +1,51 @@
+// Messages shared by the recording tools (see bag_messages.hpp).
+#include "hapi_dataset/ros/bag_messages.hpp"
+
+#include <algorithm>
+
+namespace hapi_dataset {
+
+sensor_msgs::CameraInfo toCameraInfoMsg(const CameraInfoData& d, const std_msgs::Header& h) {
+  sensor_msgs::CameraInfo m;
+  m.header = h;
+  m.width = d.width;
+  m.height = d.height;
+  m.distortion_model = d.distortion_model;
+  m.D = d.D;
+  std::copy(d.K.begin(), d.K.end(), m.K.begin());
+  std::copy(d.R.begin(), d.R.end(), m.R.begin());
+  std::copy(d.P.begin(), d.P.end(), m.P.begin());
+  return m;
+}
+
+sensor_msgs::Image toImageMsg(const cv::Mat& mono, const std_msgs::Header& h) {
+  sensor_msgs::Image m;
+  m.header = h;
+  m.height = mono.rows;
+  m.width = mono.cols;
+  m.encoding = "mono8";
+  m.is_bigendian = 0;
+  m.step = mono.cols;
+  m.data.resize(static_cast<size_t>(mono.rows) * mono.cols);
+  for (int r = 0; r < mono.rows; ++r)
+    std::copy(mono.ptr<uint8_t>(r), mono.ptr<uint8_t>(r) + mono.cols, m.data.begin() + static_cast<size_t>(r) * mono.cols);
+  return m;
+}
+
+geometry_msgs::TransformStamped toTransformMsg(const ros::Time& t, const std::string& parent, const std::string& child,
+                                               const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  geometry_msgs::TransformStamped tf;
+  tf.header.stamp = t;
+  tf.header.frame_id = parent;
+  tf.child_frame_id = child;
+  tf.transform.translation.x = p.x();
+  tf.transform.translation.y = p.y();
+  tf.transform.translation.z = p.z();
+  tf.transform.rotation.x = q.x();
+  tf.transform.rotation.y = q.y();
+  tf.transform.rotation.z = q.z();
+  tf.transform.rotation.w = q.w();
+  return tf;
+}
+
+}  // namespace hapi_dataset
