@@ -4,6 +4,7 @@
 
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/seif/seif_storage.hpp"
 
 namespace hapi_eskf {
 
@@ -17,15 +18,15 @@ Mat12 SlamBackend::cameraCovariance() const {
 bool slamBackendBuilt(BackendAlgorithm algorithm, std::string* why) {
   switch (algorithm) {
     case BackendAlgorithm::kEskf:
-      return true;
     case BackendAlgorithm::kSeif:
+      return true;
     case BackendAlgorithm::kGraph:
     case BackendAlgorithm::kFastSlam2:
       break;
   }
   if (why)
     *why = std::string("backend_algorithm '") + toString(algorithm) +
-           "' is not built into this hapi_eskf (available: eskf)";
+           "' is not built into this hapi_eskf (available: eskf, seif)";
   return false;
 }
 
@@ -37,7 +38,10 @@ std::unique_ptr<SlamBackend> makeSlamBackend(const EskfSettings& s, int descript
     return nullptr;
   }
   if (!slamBackendBuilt(s.backend_algorithm, error)) return nullptr;
-  std::unique_ptr<CovarianceBackend> storage = makeBackend(s, descriptor_length, error);
+  // seif: the ES-EKF's host logic over the information-form storage.
+  std::unique_ptr<CovarianceBackend> storage = s.backend_algorithm == BackendAlgorithm::kSeif
+                                                   ? seif::makeSeifStorage(s, descriptor_length, error)
+                                                   : makeBackend(s, descriptor_length, error);
   if (!storage) return nullptr;
   return std::make_unique<Eskf>(s, std::move(storage), extrinsic);
 }
