@@ -7,6 +7,7 @@
 //   fast      1.7 Hz swipe (>= 1 m/s) + 1 Hz roll (>= 3 rad/s) + tremor
 //   loop      leaves the start area (sideways / full orbit) and returns; sway + tremor
 //   subject   device held still (tremor only); the scene moves cm and degrees at 0.5-2 Hz
+//   orbit     one constant-speed circle around the centre in 50 s, no hand motion (loop closure at the end)
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -19,7 +20,7 @@
 
 namespace hapi_sim {
 
-enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject };
+enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Orbit };
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind);
 std::string trajectoryName(TrajectoryKind kind);
 
@@ -65,6 +66,7 @@ std::unique_ptr<RigidMotion> makeSmoothTrajectory(const ViewGeometry& view);
 std::unique_ptr<RigidMotion> makeHandheldTrajectory(const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeFastTrajectory(const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeLoopTrajectory(const ViewGeometry& view, uint32_t seed);
+std::unique_ptr<RigidMotion> makeOrbitTrajectory(const ViewGeometry& view);
 // Subject motion: the device held still (tremor only, no sway) ...
 std::unique_ptr<RigidMotion> makeStillTrajectory(const ViewGeometry& view, uint32_t seed);
 // ... while the scene moves: a few cm and degrees at 0.5-2 Hz about the view centre.

@@ -4,11 +4,12 @@
 
 namespace hapi_sim {
 namespace {
-const char* const kNames[] = {"smooth", "handheld", "fast", "loop", "subject"};
+const char* const kNames[] = {"smooth", "handheld", "fast", "loop", "subject", "orbit"};
+constexpr int kCount = sizeof(kNames) / sizeof(kNames[0]);
 }
 
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind) {
-  for (int i = 0; i < 5; ++i)
+  for (int i = 0; i < kCount; ++i)
     if (name == kNames[i]) { *kind = static_cast<TrajectoryKind>(i); return true; }
   return false;
 }
@@ -22,6 +23,7 @@ std::unique_ptr<RigidMotion> makeDeviceMotion(TrajectoryKind kind, const ViewGeo
     case TrajectoryKind::Fast: return makeFastTrajectory(view, seed);
     case TrajectoryKind::Loop: return makeLoopTrajectory(view, seed);
     case TrajectoryKind::Subject: return makeStillTrajectory(view, seed);
+    case TrajectoryKind::Orbit: return makeOrbitTrajectory(view);
   }
   return nullptr;
 }
