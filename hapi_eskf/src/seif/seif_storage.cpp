@@ -315,15 +315,23 @@ Status SeifStorage::doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) 
   return Status::kOk;
 }
 
-// Removal = marginalisation of each slot (Omega_NN -= Omega_Nk Omega_kk^-1
-// Omega_kN over its neighbours N, pose included; xi likewise), then the
-// pool's slot plan (removal_plan.hpp).
+// Removal = marginalisation of each slot k over its neighbours N (pose
+// included when k is active): Omega_NN -= Omega_Nk Omega_kk^-1 Omega_kN, xi
+// likewise; then the pool's slot plan (removal_plan.hpp). Sparsified
+// (seif_max_active_landmarks > 0), the fill-in is kept only among the pose
+// and the active neighbours; a passive neighbour j keeps its own block of
+// the Schur complement (Omega_jj -= Omega_jk Omega_kk^-1 Omega_kj) but no new
+// links: exact marginalisation would join all of k's neighbours, and with a
+// full pool (removals every frame) the landmark graph would grow dense and
+// each removal cost O(K^2) (docs/DESIGN.md "SEIF").
 Status SeifStorage::doRemoveLandmarks(const std::vector<int>& slots) {
-  const int P = poseDim(), K = numLandmarks();
+  const int K = numLandmarks();
+  const bool exact = settings_.seif_max_active_landmarks <= 0;
   for (int k : slots) {
-    std::vector<int> N;
-    for (const auto& [j, B] : omega_.links(k)) N.push_back(j);
+    std::vector<int> N, passive;
+    for (const auto& [j, B] : omega_.links(k)) (exact || omega_.isActive(j) ? N : passive).push_back(j);
     std::sort(N.begin(), N.end());
+    std::sort(passive.begin(), passive.end());
     std::vector<int> Lk = N;
     Lk.push_back(k);
     const MatrixXd Om = omega_.gather(Lk);
@@ -332,14 +340,24 @@ Status SeifStorage::doRemoveLandmarks(const std::vector<int>& slots) {
     const Eigen::LLT<Mat3> llt(Mat3(Om.block<3, 3>(n, n)));
     MatrixXd Rest = Om.topLeftCorner(n, n);
     VectorXd xi_rest = xi.head(n);
+    std::vector<std::pair<int, Mat3>> diag_updates;
+    std::vector<std::pair<int, Vec3>> xi_updates;
     if (llt.info() == Eigen::Success) {
       const MatrixXd Onk = Om.block(0, n, n, 3);
       Rest.noalias() -= Onk * llt.solve(Onk.transpose());
-      xi_rest.noalias() -= Onk * llt.solve(Vec3(xi.tail<3>()));
+      const Vec3 w = llt.solve(Vec3(xi.tail<3>()));
+      xi_rest.noalias() -= Onk * w;
+      for (int j : passive) {
+        const Mat3 Ojk = omega_.links(k).at(j).transpose();  // Omega_jk
+        diag_updates.emplace_back(j, -Ojk * llt.solve(Ojk.transpose()));
+        xi_updates.emplace_back(j, -Ojk * w);
+      }
     }
     omega_.dropLandmark(k);
     omega_.scatter(N, Rest);
     omega_.scatterXi(N, xi_rest);
+    for (const auto& [j, d] : diag_updates) omega_.addDiagonal(j, d);
+    for (const auto& [j, d] : xi_updates) omega_.addXiLandmark(j, d);
   }
   for (const SlotMove& mv : tailFillMoves(K, slots)) {
     omega_.moveLandmark(mv.from, mv.to);
@@ -350,7 +368,6 @@ Status SeifStorage::doRemoveLandmarks(const std::vector<int>& slots) {
   recency_.resize(K_new);
   descriptors_.remove(slots);
   cursor_ = K_new > 0 ? cursor_ % K_new : 0;
-  (void)P;
   touched();
   return Status::kOk;
 }

@@ -40,6 +40,7 @@ class InformationMatrix {
   void scatter(const std::vector<int>& slots, const Eigen::MatrixXd& omega);
   void scatterXi(const std::vector<int>& slots, const Eigen::VectorXd& xi);
   void addXiLandmark(int slot, const Vec3& d) { xi_m_[slot] += d; }
+  void addDiagonal(int slot, const Mat3& d) { mm_[slot] += d; }
   void setXiLandmark(int slot, const Vec3& v) { xi_m_[slot] = v; }
 
   // A new landmark slot K (no links, zero information) to be filled by scatter.
