@@ -4,7 +4,7 @@ recorded landmark streams, Kock 2021's metrics per time step and per landmark,
 a Markdown table and PNG plots.
 
     compare_backends.py [--streams S1,S2,...] [--variants eskf,seif,...] [--set KEY=VALUE ...]
-                        [--out DIR] [--frames N] [--plot-only]
+                        [--out DIR] [--frames N] [--truth-offset S] [--plot-only]
 
 A stream is a file written by tools/eval/accuracy.py (.data/sim/*_stream.txt),
 or `synthetic-orbit` (compare_backends' ROS-free version of Kock's scenario).
@@ -43,7 +43,9 @@ def stream_name(stream):
     return os.path.basename(stream).replace("_stream.txt", "")
 
 
-def truth_offset(stream):
+def truth_offset(stream, given=None):
+    if given is not None:
+        return given
     bag = stream.replace("_stream.txt", ".bag")
     if stream == "synthetic-orbit" or not os.path.exists(bag):
         return 0.0
@@ -58,11 +60,11 @@ def parse_variant(v):
     return label, parts[0], parts[1:]
 
 
-def run(stream, variant, settings, out, frames):
+def run(stream, variant, settings, out, frames, offset=None):
     label, algorithm, extra = parse_variant(variant)
     src = "--synthetic-orbit" if stream == "synthetic-orbit" else stream
     cmd = [tool_path(), src, "--algorithm", algorithm, "--label", stream_name(stream) + "__" + label, "--out", out,
-           "--truth-offset", repr(truth_offset(stream))] + (["--frames", str(frames)] if frames else []) + \
+           "--truth-offset", repr(truth_offset(stream, offset))] + (["--frames", str(frames)] if frames else []) + \
         list(settings) + extra
     print("$ " + " ".join(cmd), flush=True)
     subprocess.run(cmd, check=True)
@@ -183,6 +185,8 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--out", default=os.path.join(REPO, ".ws", "backends"))
     ap.add_argument("--frames", type=int, default=0)
+    ap.add_argument("--truth-offset", type=float, default=None,
+                    help="t_truth = t_frame + S for every stream (default: from the bag next to the stream, else 0)")
     ap.add_argument("--plot-only", action="store_true", help="tables and plots of the runs already in --out")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
@@ -191,7 +195,7 @@ def main():
     if not a.plot_only:
         for s in streams:
             for v in variants:
-                run(s, v, a.set, a.out, a.frames)
+                run(s, v, a.set, a.out, a.frames, a.truth_offset)
     labels = [parse_variant(v)[0] for v in variants]
     table(streams, labels, a.out)
     for s in streams:
