@@ -28,7 +28,7 @@
 // bandwidth.
 #pragma once
 
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/slam_backend.hpp"
 #include "hapi_eskf/motion_model.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
@@ -41,9 +41,11 @@ class PosePropagator {
  public:
   explicit PosePropagator(const EskfSettings& settings) : settings_(settings) {}
 
-  // Start from the filter's state (after a processed frame); scene_moving:
-  // that frame's IterationReport::scene_moving (surface-relative mode above).
-  void rebase(const Eskf& filter, bool scene_moving = false);
+  // Start from the back end's pose-block state (after a processed frame);
+  // a back end without one (SlamBackend::poseBlockState) leaves the copy
+  // invalid. scene_moving: that frame's IterationReport::scene_moving
+  // (surface-relative mode above).
+  void rebase(const SlamBackend& filter, bool scene_moving = false);
   // Forget the state (filter reset): step() fails until the next rebase().
   void invalidate() {
     model_.reset();

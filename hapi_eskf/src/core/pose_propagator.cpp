@@ -8,11 +8,17 @@
 
 namespace hapi_eskf {
 
-void PosePropagator::rebase(const Eskf& filter, bool scene_moving) {
-  model_ = makeMotionModel(settings_, filter.motionModel().extrinsic());
-  x_ = filter.state();
-  C_ = filter.poseCovariance();
-  time_ = filter.time();
+void PosePropagator::rebase(const SlamBackend& filter, bool scene_moving) {
+  PoseBlockState s;
+  if (!filter.poseBlockState(&s)) {
+    model_.reset();
+    have_previous_ = false;
+    return;
+  }
+  model_ = makeMotionModel(settings_, s.extrinsic);
+  x_ = s.x;
+  C_ = s.C;
+  time_ = s.time;
   const PoseState camera = model_->camera(x_);
   const Mat12 camera_C = hapi_eskf::cameraCovariance(*model_, x_, C_);
   relative_ = false;

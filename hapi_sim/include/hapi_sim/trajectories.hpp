@@ -8,6 +8,7 @@
 //   loop      leaves the start area (sideways / full orbit) and returns; sway + tremor
 //   subject   device held still (tremor only); the scene moves cm and degrees at 0.5-2 Hz
 //   rest      device on a stand (no hand motion at all), scene static: the standing-still drift
+//   orbit     one constant-speed circle around the centre in 50 s, no hand motion (loop closure at the end)
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -20,7 +21,7 @@
 
 namespace hapi_sim {
 
-enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest };
+enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest, Orbit };
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind);
 std::string trajectoryName(TrajectoryKind kind);
 
@@ -66,6 +67,7 @@ std::unique_ptr<RigidMotion> makeSmoothTrajectory(const ViewGeometry& view);
 std::unique_ptr<RigidMotion> makeHandheldTrajectory(const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeFastTrajectory(const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeLoopTrajectory(const ViewGeometry& view, uint32_t seed);
+std::unique_ptr<RigidMotion> makeOrbitTrajectory(const ViewGeometry& view);
 // Subject motion: the device held still (tremor only, no sway; without
 // tremor: on a stand) ...
 std::unique_ptr<RigidMotion> makeStillTrajectory(const ViewGeometry& view, uint32_t seed, bool tremor = true);

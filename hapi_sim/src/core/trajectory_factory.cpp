@@ -4,11 +4,12 @@
 
 namespace hapi_sim {
 namespace {
-const char* const kNames[] = {"smooth", "handheld", "fast", "loop", "subject", "rest"};
+const char* const kNames[] = {"smooth", "handheld", "fast", "loop", "subject", "rest", "orbit"};
+constexpr int kCount = sizeof(kNames) / sizeof(kNames[0]);
 }
 
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind) {
-  for (int i = 0; i < static_cast<int>(sizeof(kNames) / sizeof(kNames[0])); ++i)
+  for (int i = 0; i < kCount; ++i)
     if (name == kNames[i]) { *kind = static_cast<TrajectoryKind>(i); return true; }
   return false;
 }
@@ -23,6 +24,7 @@ std::unique_ptr<RigidMotion> makeDeviceMotion(TrajectoryKind kind, const ViewGeo
     case TrajectoryKind::Loop: return makeLoopTrajectory(view, seed);
     case TrajectoryKind::Subject: return makeStillTrajectory(view, seed);
     case TrajectoryKind::Rest: return makeStillTrajectory(view, seed, false);
+    case TrajectoryKind::Orbit: return makeOrbitTrajectory(view);
   }
   return nullptr;
 }

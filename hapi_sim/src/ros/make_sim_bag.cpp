@@ -1,7 +1,7 @@
 // make_sim_bag: writes one scenario of the hand-held simulation suite
 // (docs/DESIGN.md "Data") to a rosbag and/or a EuRoC/ASL folder.
 //
-//   make_sim_bag --scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest
+//   make_sim_bag --scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest|orbit
 //                [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]
 //                [--output FILE.bag] [--asl DIR]
 //                [--exposure-ms MS] [--blur-samples N] [--photometric 0|1]
@@ -57,7 +57,7 @@ struct Options {
 
 [[noreturn]] void usage(const std::string& err) {
   std::cerr << "make_sim_bag: " << err << "\n"
-            << "usage: make_sim_bag --scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest\n"
+            << "usage: make_sim_bag --scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest|orbit\n"
             << "                    [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]\n"
             << "                    [--output FILE.bag] [--asl DIR] [--exposure-ms MS] [--blur-samples N]\n"
             << "                    [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1]\n"

@@ -45,7 +45,7 @@ class OutputPublisher {
   // samples already received. scene_moving: the frame's
   // IterationReport::scene_moving (the IMU-rate copy then follows the
   // surface, pose_propagator.hpp). Returns T_map_cam of the frame (for the path).
-  CameraInMap publishFrame(const ros::Time& stamp, const std::string& camera_frame, const Eskf& filter,
+  CameraInMap publishFrame(const ros::Time& stamp, const std::string& camera_frame, const SlamBackend& filter,
                            bool scene_moving);
   // Filter reset: the new timeline may start earlier; the copy is void.
   void restart();

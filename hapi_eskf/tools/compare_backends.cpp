@@ -1,0 +1,249 @@
+// compare_backends: one SLAM back end (slam_backend.hpp, any backend_algorithm)
+// on a recorded landmark stream (landmark_stream.hpp), scored per time step
+// and per landmark with the metrics of Kock 2021's back-end comparison
+// (docs/DESIGN.md "Back ends", "Comparison metrics"). A tool, not a test;
+// tools/eval/compare_backends.py runs it for every back end and writes the
+// table and the plots (docs/BACKENDS.md).
+//
+//   compare_backends STREAM.txt|--synthetic-orbit[=SEED] --algorithm eskf|seif|graph|fastslam2 --out DIR [--label NAME]
+//                    [--frames N] [--truth-offset S] [key=value ...]
+//
+// --truth-offset: t_truth = t_frame + S (the simulator's truth is on the IMU
+// clock: the bag's /ground_truth/calibration time_offset_s).
+//
+// The back end starts at the identity at the first frame (its world is the
+// first camera); the truth is moved into that world with the true first
+// camera pose (anchored, no alignment fit), so errors and NEES are those of
+// the estimate and covariance as the back end states them.
+// Per step (DIR/NAME_steps.csv): position error |p - p_true| [m], rotation
+// error |Log(R^T R_true)| [rad], their NEES (3 dof each, the back end's 6x6
+// pose covariance), map MAE and mean map NEES over the current landmarks
+// whose truth is known, pool size, and the per-stage times [ms].
+// Per landmark at the end (DIR/NAME_landmarks.csv): error, NEES, times
+// observed. The truth of a landmark is where the ray of the measurement that
+// created it meets the true surface (globe streams; no map metrics without a
+// globe). Summary: DIR/NAME_summary.txt (key value lines).
+#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/slam_backend.hpp"
+#include "hapi_eskf/so3.hpp"
+#include "landmark_stream.hpp"
+#include "synthetic_orbit.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+using namespace hapi_eskf;
+
+namespace {
+
+struct Anchor {
+  Mat3 R = Mat3::Identity();  // true first camera -> truth world
+  Vec3 t = Vec3::Zero();
+  Vec3 toFilter(const Vec3& x) const { return R.transpose() * (x - t); }
+};
+
+// The true camera pose at time t (truth clock), interpolated (position
+// linearly, orientation by slerp); held at the ends.
+tools::TruePose truthAt(const std::vector<tools::TruePose>& gt, double t) {
+  auto it = std::lower_bound(gt.begin(), gt.end(), t, [](const tools::TruePose& g, double s) { return g.t < s; });
+  if (it == gt.end()) return gt.back();
+  if (it == gt.begin()) return *it;
+  const tools::TruePose &a = *(it - 1), &b = *it;
+  const double u = b.t > a.t ? (t - a.t) / (b.t - a.t) : 0.0;
+  tools::TruePose g;
+  g.t = t;
+  g.p = (1 - u) * a.p + u * b.p;
+  g.q = a.q.slerp(u, b.q);
+  return g;
+}
+
+// Where the camera ray along z (camera frame) from the true pose meets the
+// globe (the near intersection); false when it misses.
+bool surfacePoint(const tools::TruePose& g, const Vec3& z, const Vec3& centre, double radius, Vec3* out) {
+  const Vec3 d = g.q.toRotationMatrix() * z.normalized();
+  const Vec3 o = g.p - centre;
+  const double b = d.dot(o), c = o.squaredNorm() - radius * radius, disc = b * b - c;
+  if (disc < 0) return false;
+  const double s = -b - std::sqrt(disc);
+  if (s <= 0) return false;
+  *out = g.p + s * d;
+  return true;
+}
+
+double nees(const Vec3& e, const Mat3& C) {
+  const Eigen::LDLT<Mat3> ldlt(C);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return std::nan("");
+  return e.dot(ldlt.solve(e));
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  int n = 0;
+  for (double x : v)
+    if (std::isfinite(x)) { s += x; ++n; }
+  return n ? s / n : std::nan("");
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* usage =
+      "usage: compare_backends STREAM.txt|--synthetic-orbit[=SEED] --algorithm eskf|seif|graph|fastslam2 --out DIR [--label NAME] "
+      "[--frames N] [--truth-offset S] [key=value ...]\n";
+  if (argc < 2 || std::string(argv[1]) == "--help") {
+    std::cerr << usage;
+    return argc < 2 ? 1 : 0;
+  }
+  EskfSettings s;
+  std::string out_dir, label;
+  int max_frames = -1;
+  double truth_offset = 0.0;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--out" && i + 1 < argc) { out_dir = argv[++i]; continue; }
+    if (a == "--label" && i + 1 < argc) { label = argv[++i]; continue; }
+    if (a == "--frames" && i + 1 < argc) { max_frames = std::stoi(argv[++i]); continue; }
+    if (a == "--truth-offset" && i + 1 < argc) { truth_offset = std::stod(argv[++i]); continue; }
+    if (a == "--algorithm" && i + 1 < argc) {
+      const std::string err = setFieldFromText(&s, "backend_algorithm", argv[++i]);
+      if (!err.empty()) { std::cerr << err << "\n"; return 1; }
+      continue;
+    }
+    const auto eq = a.find('=');
+    const std::string err =
+        eq == std::string::npos ? "unknown argument " + a : setFieldFromText(&s, a.substr(0, eq), a.substr(eq + 1));
+    if (!err.empty()) { std::cerr << err << "\n" << usage; return 1; }
+  }
+  if (out_dir.empty()) { std::cerr << usage; return 1; }
+  if (label.empty()) label = toString(s.backend_algorithm);
+  if (s.motion_model == MotionModelKind::kInertial) {
+    std::cerr << "motion_model inertial: its world is gravity-aligned, not the first camera; not supported here\n";
+    return 1;
+  }
+  tools::LandmarkStream stream;
+  std::string err;
+  const std::string source = argv[1];
+  if (source.rfind("--synthetic-orbit", 0) == 0) {
+    tools::SyntheticOrbitOptions o;
+    if (source.size() > 18) o.seed = static_cast<unsigned>(std::stoul(source.substr(18)));
+    stream = tools::makeSyntheticOrbit(o);
+  } else if (!tools::readLandmarkStream(source, &stream, &err)) {
+    std::cerr << err << "\n";
+    return 1;
+  }
+  if (stream.frames.empty() || stream.truth.empty()) { std::cerr << "stream without frames or truth\n"; return 1; }
+  std::vector<ImuSample> imu;
+  for (const ImuSample& m : stream.imu) imu.push_back(imuSampleOnCameraClock(m.stamp, m.gyro, m.accel, s));
+  auto backend = makeSlamBackend(s, stream.frames[0].descriptor_length, stream.extrinsic.value_or(CameraExtrinsic()),
+                                 &err);
+  if (!backend) { std::cerr << err << "\n"; return 1; }
+  if (s.motion_model != MotionModelKind::kConstantVelocity && (imu.empty() || !backend->supportsImu())) {
+    std::cerr << "motion_model " << toString(s.motion_model) << " needs IMU samples and a back end that uses them\n";
+    return 1;
+  }
+  const double t0 = stream.frames[0].stamp;
+  if (backend->reset(PoseState(), t0) != Status::kOk) { std::cerr << "reset failed\n"; return 1; }
+  Anchor anchor;
+  {
+    const tools::TruePose g0 = truthAt(stream.truth, t0 + truth_offset);
+    anchor.R = g0.q.toRotationMatrix();
+    anchor.t = g0.p;
+  }
+  const std::string prefix = out_dir + "/" + label;
+  std::FILE* steps = std::fopen((prefix + "_steps.csv").c_str(), "w");
+  if (!steps) { std::cerr << "cannot write " << prefix << "_steps.csv\n"; return 1; }
+  std::fprintf(steps,
+               "step,t,pos_err,rot_err,nees_pos,nees_rot,map_mae,map_nees,map_n,landmarks,status,t_total_ms,"
+               "t_predict_ms,t_association_ms,t_update_ms,t_removal_ms,t_addition_ms\n");
+  std::map<uint64_t, Vec3> truth_of;  // landmark id -> true point (filter world)
+  std::vector<double> pos_err, rot_err, nees_pos, nees_rot, map_mae, map_nees, total_ms;
+  std::size_t next_imu = 0;
+  int n_errors = 0;
+  const int n_frames = max_frames > 0 ? std::min<int>(max_frames, stream.frames.size()) : stream.frames.size();
+  for (int k = 0; k < n_frames; ++k) {
+    const StereoFrame& f = stream.frames[k];
+    if (backend->supportsImu())
+      for (; next_imu < imu.size() && imu[next_imu].stamp <= f.stamp; ++next_imu)
+        if (imu[next_imu].stamp > backend->time()) backend->addImu(imu[next_imu]);
+    IterationReport rep;
+    Status st = f.measurements.empty() ? backend->predictTo(f.stamp) : backend->processFrame(f, &rep);
+    if (st != Status::kOk) ++n_errors;
+    const tools::TruePose g = truthAt(stream.truth, f.stamp + truth_offset);
+    const PoseState x = backend->pose();
+    const Mat3 R_true = anchor.R.transpose() * g.q.toRotationMatrix();
+    const Vec3 p_true = anchor.toFilter(g.p);
+    const Mat6 C = backend->cameraPoseCovariance();
+    const Vec3 ep = p_true - x.p;
+    const Vec3 er = logSO3(x.q.toRotationMatrix().transpose() * R_true);
+    pos_err.push_back(ep.norm());
+    rot_err.push_back(er.norm());
+    nees_pos.push_back(nees(ep, C.topLeftCorner<3, 3>()));
+    nees_rot.push_back(nees(er, C.bottomRightCorner<3, 3>()));
+    total_ms.push_back(rep.t_total_ms);
+    // Map: new landmarks get their truth from the ray that created them.
+    const std::vector<LandmarkInfo> map = backend->landmarks();
+    std::vector<double> e_map, n_map;
+    for (const LandmarkInfo& l : map) {
+      if (stream.has_globe && !truth_of.count(l.id) && l.times_observed == 1 && l.last_seen == f.stamp) {
+        const Vec3 z = x.q.toRotationMatrix().transpose() * (l.position - x.p);
+        Vec3 X;
+        if (surfacePoint(g, z, stream.globe_centre, stream.globe_radius, &X)) truth_of[l.id] = anchor.toFilter(X);
+      }
+      const auto it = truth_of.find(l.id);
+      if (it == truth_of.end()) continue;
+      const Vec3 e = l.position - it->second;
+      e_map.push_back(e.norm());
+      n_map.push_back(nees(e, l.covariance));
+    }
+    map_mae.push_back(mean(e_map));
+    map_nees.push_back(mean(n_map));
+    std::fprintf(steps, "%d,%.6f,%.9g,%.9g,%.6g,%.6g,%.9g,%.6g,%zu,%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", k,
+                 f.stamp - t0, pos_err.back(), rot_err.back(), nees_pos.back(), nees_rot.back(), map_mae.back(),
+                 map_nees.back(), e_map.size(), backend->numLandmarks(), toString(st), rep.t_total_ms,
+                 rep.t_predict_ms, rep.t_association_ms, rep.t_update_ms, rep.t_removal_ms, rep.t_addition_ms);
+  }
+  std::fclose(steps);
+  // Per landmark, final map.
+  std::FILE* lm = std::fopen((prefix + "_landmarks.csv").c_str(), "w");
+  std::fprintf(lm, "id,err,nees,times_observed,sigma_max\n");
+  std::vector<double> final_err, final_nees;
+  for (const LandmarkInfo& l : backend->landmarks()) {
+    const auto it = truth_of.find(l.id);
+    if (it == truth_of.end()) continue;
+    const Vec3 e = l.position - it->second;
+    final_err.push_back(e.norm());
+    final_nees.push_back(nees(e, l.covariance));
+    const Eigen::SelfAdjointEigenSolver<Mat3> es(l.covariance);
+    std::fprintf(lm, "%llu,%.9g,%.6g,%d,%.6g\n", static_cast<unsigned long long>(l.id), final_err.back(),
+                 final_nees.back(), l.times_observed, std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff())));
+  }
+  std::fclose(lm);
+  std::FILE* sum = std::fopen((prefix + "_summary.txt").c_str(), "w");
+  std::fprintf(sum, "algorithm %s\nstorage %s\nframes %d\nerrors %d\n", backend->name(), backend->storage().c_str(),
+               n_frames, n_errors);
+  std::fprintf(sum, "mae_pos_m %.9g\nmae_rot_rad %.9g\nmae_map_m %.9g\n", mean(pos_err), mean(rot_err), mean(map_mae));
+  std::fprintf(sum, "mean_nees_pos %.6g\nmean_nees_rot %.6g\nmean_nees_map %.6g\n", mean(nees_pos), mean(nees_rot),
+               mean(map_nees));
+  std::fprintf(sum, "final_map_mae_m %.9g\nfinal_map_nees %.6g\nfinal_map_n %zu\n", mean(final_err), mean(final_nees),
+               final_err.size());
+  std::fprintf(sum, "ms_mean %.4f\nms_p50 %.4f\nms_p99 %.4f\nms_max %.4f\n", mean(total_ms), quantile(total_ms, 0.5),
+               quantile(total_ms, 0.99), quantile(total_ms, 1.0));
+  std::fclose(sum);
+  std::printf("%s: MAE pos %.2f mm rot %.4f rad map %.2f mm | NEES pos %.2f rot %.2f map %.2f | %.1f ms/frame\n",
+              label.c_str(), 1e3 * mean(pos_err), mean(rot_err), 1e3 * mean(map_mae), mean(nees_pos), mean(nees_rot),
+              mean(map_nees), mean(total_ms));
+  return 0;
+}
