@@ -38,7 +38,14 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
       if (error) *error = "the cpu backend supports precision fp64 only";
       return nullptr;
     }
-    return makeCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model));
+    if (s.covariance_update == CovarianceUpdate::kPartitioned)
+      return makePartitionedCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model),
+                                       s.cpu_linear_algebra, s.partition_max_active);
+    return makeCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s.cpu_linear_algebra);
+  }
+  if (s.covariance_update != CovarianceUpdate::kDense) {
+    if (error) *error = "covariance_update partitioned is implemented on the cpu backend only";
+    return nullptr;
   }
 #ifdef HAPI_ESKF_WITH_CUDA
   std::string err;
