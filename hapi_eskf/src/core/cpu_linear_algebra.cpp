@@ -7,6 +7,9 @@
 
 #include <Eigen/Cholesky>
 
+#include <algorithm>
+#include <cstddef>
+
 namespace hapi_eskf {
 namespace cpu_la {
 
@@ -14,8 +17,6 @@ namespace cpu_la {
 extern "C" {
 void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* A,
             const int* lda, const double* beta, double* C, const int* ldc);
-void dsyr2k_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* A,
-             const int* lda, const double* B, const int* ldb, const double* beta, double* C, const int* ldc);
 void dgemm_(const char* ta, const char* tb, const int* m, const int* n, const int* k, const double* alpha,
             const double* A, const int* lda, const double* B, const int* ldb, const double* beta, double* C,
             const int* ldc);
@@ -51,18 +52,26 @@ void rankUpdateLower(CpuLinearAlgebra la, MatRef C, const MatrixXd& A, double al
   C.selfadjointView<Eigen::Lower>().rankUpdate(A, alpha);
 }
 
-void rank2UpdateLower(CpuLinearAlgebra la, MatRef C, const MatrixXd& A, const MatrixXd& B, double alpha) {
+void productUpdateLower(CpuLinearAlgebra la, MatRef C, const MatrixXd& A, const MatrixXd& B, double alpha) {
   if (C.rows() == 0 || A.cols() == 0) return;
 #ifdef HAPI_ESKF_WITH_BLAS
   if (useBlas(la)) {
+    // Panels of kPanel columns: C(j:n, j:j+w) += alpha A(j:n, :) B(j:j+w, :)^T;
+    // only the diagonal w x w blocks compute entries above the diagonal
+    // (scratch under the storage contract), a w/n share of the flops.
+    constexpr int kPanel = 256;
     const int n = static_cast<int>(C.rows()), k = static_cast<int>(A.cols()), ldc = static_cast<int>(C.outerStride());
     const double beta = 1.0;
-    dsyr2k_("L", "N", &n, &k, &alpha, A.data(), &n, B.data(), &n, &beta, C.data(), &ldc);
+    for (int j = 0; j < n; j += kPanel) {
+      const int w = std::min(kPanel, n - j), h = n - j;
+      dgemm_("N", "T", &h, &w, &k, &alpha, A.data() + j, &n, B.data() + j, &n, &beta,
+             C.data() + static_cast<std::ptrdiff_t>(j) * ldc + j, &ldc);
+    }
     return;
   }
 #endif
   (void)la;
-  C.triangularView<Eigen::Lower>() += alpha * (A * B.transpose() + B * A.transpose());
+  C.triangularView<Eigen::Lower>() += alpha * A * B.transpose();
 }
 
 void gemm(CpuLinearAlgebra la, bool trans_a, bool trans_b, double alpha, const MatrixXd& A, const MatrixXd& B,

@@ -1,5 +1,5 @@
 // The CPU backends' dense products and factorisations, on OpenBLAS/LAPACK
-// (DSYRK, DSYR2K, DGEMM, DPOTRF, DTRSM) or on Eigen alone, chosen per call
+// (DSYRK, DGEMM, DPOTRF, DTRSM) or on Eigen alone, chosen per call
 // (setting cpu_linear_algebra), so one binary can compare both (tests, bench).
 // Matrices are column-major; a "lower" operand has only its lower triangle
 // read or written, as in the backends' storage contract. Small blocks (3 x 3,
@@ -25,8 +25,11 @@ CpuLinearAlgebra effective(CpuLinearAlgebra la);
 
 // lower(C) += alpha A A^T (C n x n, A n x k).
 void rankUpdateLower(CpuLinearAlgebra la, MatRef C, const MatrixXd& A, double alpha);
-// lower(C) += alpha (A B^T + B A^T) (C n x n, A and B n x k).
-void rank2UpdateLower(CpuLinearAlgebra la, MatRef C, const MatrixXd& A, const MatrixXd& B, double alpha);
+// lower(C) += alpha A B^T (C n x n, A and B n x k, A B^T symmetric: only
+// its lower triangle is formed; column panels of DGEMM on the BLAS path,
+// Eigen's triangular product otherwise). Half the flops of a
+// DSYR2K on (A, B).
+void productUpdateLower(CpuLinearAlgebra la, MatRef C, const MatrixXd& A, const MatrixXd& B, double alpha);
 // C = alpha A B + beta C, with op(X) = X^T where the flag says so.
 void gemm(CpuLinearAlgebra la, bool trans_a, bool trans_b, double alpha, const MatrixXd& A, const MatrixXd& B,
           double beta, MatrixXd* C);

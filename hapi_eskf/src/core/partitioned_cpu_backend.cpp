@@ -366,7 +366,7 @@ class PartitionedCpuBackend final : public CovarianceBackend {
   }
 
   // Applies the deferred correction to the stored C and starts a new epoch:
-  //   C_BB <- C^0_BB - X Psi X^T (one rank-2a0 update over the whole lower
+  //   C_BB <- C^0_BB - (X Psi) X^T (one rank-a0 product over the whole lower
   //   triangle; the active rows it also touches are overwritten next),
   //   row of active index i <- (Phi X^T)_i outside A, Caa_ inside A.
   // Logically const: the represented covariance does not change (the object
@@ -386,7 +386,7 @@ class PartitionedCpuBackend final : public CovarianceBackend {
     const MatrixXd X = X_.topRows(n);
     MatrixXd T;
     cpu_la::gemm(la_, false, false, 1.0, X, Psi_, 0.0, &T);  // n x a0
-    cpu_la::rank2UpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), T, X, -0.5);
+    cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), T, X, -1.0);
     MatrixXd R;
     cpu_la::gemm(la_, false, true, 1.0, Phi_, X, 0.0, &R);  // a x n
     for (int ia = 0; ia < a; ++ia)
