@@ -1,6 +1,7 @@
 // The part of the filter whose cost grows with the pool: the dense error-state
 // covariance C (n x n, n = P + 3K, P the motion model's pose block) and the landmark descriptors. Two
-// implementations: Eigen on the CPU (reference, CI) and CUDA (C resident on the
+// implementations: the CPU (OpenBLAS or Eigen; dense or partitioned update,
+// docs/DESIGN.md "Partitioned update"; the reference, CI) and CUDA (C resident on the
 // GPU, cuBLAS/cuSOLVER + own kernels). The nominal state and all O(1)-per-
 // landmark algebra (Jacobians, innovations, injection) stay in Eskf on the host.
 //

@@ -107,7 +107,20 @@ class PartitionedCpuBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
+  // Passive slots in one batch: with c = C^0(A0, slots) (rows of X),
+  // C(pose, j) = (Phi_p c_j)^T and C_jj = C^0_jj - c_j^T Psi c_j, the
+  // a0 x a0 product done once for all of them (one DGEMM).
   Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
+    std::vector<std::size_t> passive;
+    for (std::size_t i = 0; i < slots.size(); ++i)
+      if (active_pos_[slots[i]] < 0) passive.push_back(i);
+    MatrixXd Cb(3 * passive.size(), basisDim()), CbPsi, CbPhi;
+    for (std::size_t u = 0; u < passive.size(); ++u) Cb.middleRows(3 * u, 3) = X_.middleRows(row(slots[passive[u]]), 3);
+    if (!passive.empty()) {
+      cpu_la::gemm(la_, false, false, 1.0, Cb, Psi_, 0.0, &CbPsi);
+      CbPhi = Cb * Phi_.topRows<6>().transpose();
+    }
+    std::size_t u = 0;
     for (std::size_t i = 0; i < slots.size(); ++i) {
       Mat9& M = (*out)[i];
       M.topLeftCorner<6, 6>() = Caa_.topLeftCorner<6, 6>();
@@ -115,12 +128,13 @@ class PartitionedCpuBackend final : public CovarianceBackend {
       if (ia >= 0) {
         M.block<3, 6>(6, 0) = Caa_.block<3, 6>(ia, 0);
         M.block<3, 3>(6, 6) = Caa_.block<3, 3>(ia, ia);
-      } else {  // passive: C_jp = (Phi_p c_j)^T, C_jj = C^0_jj - c_j^T Psi c_j, c_j = C^0_{A0,j}
+      } else {
         const int r = row(slots[i]);
-        const MatrixXd cj = X_.middleRows(r, 3);  // 3 x a0
-        M.block<3, 6>(6, 0) = cj * Phi_.topRows(6).transpose();
-        const Mat3 Cjj = lower_triangle::symmetricBlock(C_, r, 3) - cj * Psi_ * cj.transpose();
+        M.block<3, 6>(6, 0) = CbPhi.middleRows<3>(3 * u);
+        const Mat3 Cjj = lower_triangle::symmetricBlock(C_, r, 3) -
+                         CbPsi.middleRows<3>(3 * u) * Cb.middleRows<3>(3 * u).transpose();
         M.block<3, 3>(6, 6) = 0.5 * (Cjj + Cjj.transpose());
+        ++u;
       }
       M.block<6, 3>(0, 6) = M.block<3, 6>(6, 0).transpose();
     }
@@ -346,8 +360,9 @@ class PartitionedCpuBackend final : public CovarianceBackend {
           }
     }
     C0JJ.triangularView<Eigen::StrictlyUpper>() = C0JJ.transpose();
-    const MatrixXd cPsi = cJ * Psi_;                // nj x a0
-    const MatrixXd CAJ = Phi_ * cJ.transpose();      // a x nj
+    MatrixXd cPsi, CAJ;
+    cpu_la::gemm(la_, false, false, 1.0, cJ, Psi_, 0.0, &cPsi);  // nj x a0
+    cpu_la::gemm(la_, false, true, 1.0, Phi_, cJ, 0.0, &CAJ);    // a x nj
     MatrixXd CJJ = C0JJ - cPsi * cJ.transpose();
     CJJ = (0.5 * (CJJ + CJJ.transpose())).eval();
     resizeActive(a + nj, a0 + nj);
