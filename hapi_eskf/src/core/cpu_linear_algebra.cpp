@@ -23,11 +23,20 @@ void dgemm_(const char* ta, const char* tb, const int* m, const int* n, const in
 void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
             const double* alpha, const double* A, const int* lda, double* B, const int* ldb);
 void dpotrf_(const char* uplo, const int* n, double* A, const int* lda, int* info);
+void openblas_set_num_threads(int num_threads);
 }
 bool blasCompiledIn() { return true; }
 #else
 bool blasCompiledIn() { return false; }
 #endif
+
+void setBlasThreads(int n) {
+#ifdef HAPI_ESKF_WITH_BLAS
+  if (n > 0) openblas_set_num_threads(n);
+#else
+  (void)n;
+#endif
+}
 
 CpuLinearAlgebra effective(CpuLinearAlgebra la) { return blasCompiledIn() ? la : CpuLinearAlgebra::kEigen; }
 

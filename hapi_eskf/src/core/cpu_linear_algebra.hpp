@@ -20,6 +20,8 @@ using MatRef = Eigen::Map<MatrixXd, 0, Eigen::OuterStride<>>;
 // True when hapi_eskf was built with OpenBLAS (HAPI_ESKF_WITH_BLAS); without
 // it every function runs the Eigen path whatever `la` says.
 bool blasCompiledIn();
+// Sets OpenBLAS's thread count for the process (n > 0; no-op without BLAS).
+void setBlasThreads(int n);
 // The path a call with `la` takes in this build.
 CpuLinearAlgebra effective(CpuLinearAlgebra la);
 
