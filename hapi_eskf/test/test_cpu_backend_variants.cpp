@@ -162,9 +162,10 @@ TEST(CpuBackendVariants, PartitionedEqualsDenseOverLongSequences) {
   }
 }
 
-// A large active budget: no flush but the read-back ones, so the deferred
-// terms of a long epoch (area switches, removals of passive landmarks) carry
-// the whole correction.
+// A large active budget: flushes only where the view jumps (an update with
+// mostly passive landmarks) and at the final read-back, so long epochs with
+// stray observations from other areas and removals of passive landmarks
+// carry the deferred correction.
 TEST(CpuBackendVariants, PartitionedLongEpochEqualsDense) {
   auto part = makePartitionedCpuBackend(150, 8, kCameraMotionDim, CpuLinearAlgebra::kBlas, 1000);
   auto dense = makeCpuBackend(150, 8, kCameraMotionDim, CpuLinearAlgebra::kBlas);

@@ -8,6 +8,7 @@
 // failures found while computing are returned before C is touched, so an
 // error return leaves the state bit-for-bit unchanged.
 #include "cpu_linear_algebra.hpp"
+#include "cpu_update_steps.hpp"
 #include "lower_triangle.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/jacobians.hpp"
@@ -98,50 +99,7 @@ class CpuBackend final : public CovarianceBackend {
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
-    const int n = dim();
-    const int L = static_cast<int>(blocks.size());
-    const int m = 3 * L;
-
-    // 1. P = C H^T by gathering: the 6 pose columns once, then 3 landmark
-    //    columns per measurement (full columns rebuilt from the lower triangle).
-    const MatrixXd Cx6 = gatherColumns(0, 6, n);  // n x 6
-    MatrixXd P(n, m);
-    MatrixXd G3(n, 3);
-    for (int j = 0; j < L; ++j) {
-      const auto& b = blocks[j];
-      gatherColumnsInto(row(b.slot), 3, n, &G3);
-      P.middleCols<3>(3 * j).noalias() = Cx6 * b.H_pose.transpose();
-      P.middleCols<3>(3 * j).noalias() += G3 * b.H_landmark.transpose();
-    }
-    // 2. S = H P + R (only the rows of P that H touches), symmetrised.
-    MatrixXd S(m, m);
-    VectorXd z(m);
-    for (int i = 0; i < L; ++i) {
-      const auto& b = blocks[i];
-      const int r = row(b.slot);
-      S.middleRows<3>(3 * i).noalias() = b.H_pose * P.topRows<6>();
-      S.middleRows<3>(3 * i).noalias() += b.H_landmark * P.middleRows<3>(r);
-      z.segment<3>(3 * i) = b.innovation;
-    }
-    for (int i = 0; i < L; ++i) S.block<3, 3>(3 * i, 3 * i) += blocks[i].R;
-    S = (0.5 * (S + S.transpose())).eval();
-    if (!S.allFinite()) return Status::kNonFinite;
-    MatrixXd Lf = S;
-    if (!cpu_la::choleskyLower(la_, &Lf)) return Status::kNotPositiveDefinite;
-    // The factorisation only fails on a non-positive pivot; also refuse a
-    // numerically singular factor, which would blow up the gain.
-    if (!(Lf.diagonal().minCoeff() > 1e-12 * std::sqrt(std::max(1e-300, S.diagonal().maxCoeff()))))
-      return Status::kNotPositiveDefinite;
-    // 3. A = P L^-T (triangular solve from the right), y = L^-1 z, dx = A y.
-    cpu_la::solveRightLowerTransposed(la_, Lf, &P);
-    const VectorXd y = Lf.triangularView<Eigen::Lower>().solve(z);
-    VectorXd dxn = P * y;
-    if (!dxn.allFinite()) return Status::kNonFinite;
-    // 4. C <- C - A A^T on the lower triangle only (SYRK).
-    cpu_la::rankUpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), P, -1.0);
-    *dx = std::move(dxn);
-    if (nis) *nis = y.squaredNorm();
-    return Status::kOk;
+    return cpu_update::denseUpdateLower(la_, &C_, dim(), poseDim(), blocks, dx, nis);
   }
 
   Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {

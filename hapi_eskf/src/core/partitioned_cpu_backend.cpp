@@ -16,6 +16,7 @@
 // and X_ caches C^0_{.,A0} (the basis columns of the stored C). The means are
 // never deferred: every update returns the full dx (dx_B = C^0_{B,A0} W y).
 #include "cpu_linear_algebra.hpp"
+#include "cpu_update_steps.hpp"
 #include "lower_triangle.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/jacobians.hpp"
@@ -142,10 +143,24 @@ class PartitionedCpuBackend final : public CovarianceBackend {
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
-    // Observed passive landmarks join the active part first (exact, no flush).
+    // Observed passive landmarks join the active part first (exact, no
+    // flush). When most of them are passive (the view jumped), joining is no
+    // cheaper than the dense update (their basis rows would make the next
+    // flush cost as much): flush, update the stored C densely, and start an
+    // epoch in which they are active (joined while Psi = 0: cheap).
     std::vector<int> joiners;
     for (const auto& b : blocks)
       if (active_pos_[b.slot] < 0) joiners.push_back(b.slot);
+    if (2 * joiners.size() > blocks.size()) {
+      flush();
+      const Status st = cpu_update::denseUpdateLower(la_, &C_, dim(), poseDim(), blocks, dx, nis);
+      if (st != Status::kOk) return st;
+      startEpoch();
+      std::vector<int> seen;
+      for (const auto& b : blocks) seen.push_back(b.slot);
+      join(seen);
+      return Status::kOk;
+    }
     join(joiners);
 
     const int n = dim(), a = activeDim(), a0 = basisDim();
@@ -172,11 +187,9 @@ class PartitionedCpuBackend final : public CovarianceBackend {
     }
     for (int i = 0; i < L; ++i) S.block<3, 3>(3 * i, 3 * i) += blocks[i].R;
     S = (0.5 * (S + S.transpose())).eval();
-    if (!S.allFinite()) return Status::kNonFinite;
-    MatrixXd Lf = S;
-    if (!cpu_la::choleskyLower(la_, &Lf)) return Status::kNotPositiveDefinite;
-    if (!(Lf.diagonal().minCoeff() > 1e-12 * std::sqrt(std::max(1e-300, S.diagonal().maxCoeff()))))
-      return Status::kNotPositiveDefinite;
+    MatrixXd Lf;
+    const Status st = cpu_update::factorInnovationCovariance(la_, S, &Lf);
+    if (st != Status::kOk) return st;
     // 3. A_A = P_A L^-T, W^T = L^-1 H_A Phi, y = L^-1 z; dx_A = A_A y and the
     //    passive part dx_B = C^0_{B,A0} W y (the full dx, never deferred).
     cpu_la::solveRightLowerTransposed(la_, Lf, &PA);
@@ -399,9 +412,11 @@ class PartitionedCpuBackend final : public CovarianceBackend {
     const auto t0 = std::chrono::steady_clock::now();
     const int n = dim();
     const MatrixXd X = X_.topRows(n);
-    MatrixXd T;
-    cpu_la::gemm(la_, false, false, 1.0, X, Psi_, 0.0, &T);  // n x a0
-    cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), T, X, -1.0);
+    if (!Psi_.isZero(0.0)) {  // Psi = 0 (no update this epoch): C_BB is C^0_BB already
+      MatrixXd T;
+      cpu_la::gemm(la_, false, false, 1.0, X, Psi_, 0.0, &T);  // n x a0
+      cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), T, X, -1.0);
+    }
     MatrixXd R;
     cpu_la::gemm(la_, false, true, 1.0, Phi_, X, 0.0, &R);  // a x n
     for (int ia = 0; ia < a; ++ia)
