@@ -208,6 +208,7 @@ class PartitionedCpuBackend final : public CovarianceBackend {
     Psi_.triangularView<Eigen::StrictlyUpper>() = Psi_.transpose();
     *dx = std::move(dxn);
     if (nis) *nis = y.squaredNorm();
+    updated_in_epoch_ = true;
     if (activeLandmarks() > max_active_) flush();
     return Status::kOk;
   }
@@ -412,13 +413,25 @@ class PartitionedCpuBackend final : public CovarianceBackend {
     const auto t0 = std::chrono::steady_clock::now();
     const int n = dim();
     const MatrixXd X = X_.topRows(n);
-    if (!Psi_.isZero(0.0)) {  // Psi = 0 (no update this epoch): C_BB is C^0_BB already
+    MatrixXd R;
+    if (updated_in_epoch_) {
       MatrixXd T;
       cpu_la::gemm(la_, false, false, 1.0, X, Psi_, 0.0, &T);  // n x a0
       cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), T, X, -1.0);
+      cpu_la::gemm(la_, false, true, 1.0, Phi_, X, 0.0, &R);  // a x n
+    } else {
+      // No update this epoch: Psi = 0 (C_BB is C^0_BB), a joined row of Phi
+      // is [0, I] (its row of C^0 outside A is current) and the pose and new
+      // rows of Phi live in the pose columns only (predictions, additions).
+      const int P0 = poseDim();
+      cpu_la::gemm(la_, false, true, 1.0, MatrixXd(Phi_.leftCols(P0)), MatrixXd(X.leftCols(P0)), 0.0, &R);
+      for (int s : basis_)  // joined rows: their own stored row outside A
+        for (int r = 0; r < 3; ++r) {
+          const int ia = active_pos_[s] + r, si = row(s) + r;
+          R.row(ia).head(si) = C_.row(si).head(si);
+          R.row(ia).segment(si, n - si) = C_.col(si).segment(si, n - si).transpose();
+        }
     }
-    MatrixXd R;
-    cpu_la::gemm(la_, false, true, 1.0, Phi_, X, 0.0, &R);  // a x n
     for (int ia = 0; ia < a; ++ia)
       for (int ib = 0; ib < a; ++ib) R(ia, stateIndex(ib)) = Caa_(ia, ib);
     for (int ia = 0; ia < a; ++ia) {
@@ -443,6 +456,7 @@ class PartitionedCpuBackend final : public CovarianceBackend {
     Psi_ = MatrixXd::Zero(P, P);
     X_.setZero(N_, P);
     lower_triangle::gatherColumns(C_, 0, P, n, X_.topRows(n));
+    updated_in_epoch_ = false;
   }
 
   CpuLinearAlgebra la_;
@@ -458,6 +472,7 @@ class PartitionedCpuBackend final : public CovarianceBackend {
   std::vector<int> active_;      // active landmark slots, in active order
   std::vector<int> basis_;       // basis landmark slots, in basis order
   MatrixXd Caa_, Phi_, Psi_, X_;
+  bool updated_in_epoch_ = false;  // a partitioned update ran since the epoch began
   int flushes_ = 0;
   double flush_seconds_ = 0;
 };
