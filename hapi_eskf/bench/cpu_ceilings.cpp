@@ -1,3 +1,5 @@
+// This machine's CPU linear algebra rates at the update's shapes, measured
+// through the backend's own calls (cpu_ceilings.hpp).
 #include "cpu_ceilings.hpp"
 
 #include "../src/core/cpu_linear_algebra.hpp"

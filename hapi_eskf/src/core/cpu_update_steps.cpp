@@ -1,3 +1,5 @@
+// The update steps shared by the CPU backends (cpu_update_steps.hpp,
+// docs/DESIGN.md "Update").
 #include "cpu_update_steps.hpp"
 
 #include "lower_triangle.hpp"
