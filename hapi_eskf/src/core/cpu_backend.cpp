@@ -14,10 +14,7 @@
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/removal_plan.hpp"
 
-#include <Eigen/Cholesky>
-
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 
 namespace hapi_eskf {
