@@ -422,19 +422,25 @@ class PartitionedCpuBackend final : public CovarianceBackend {
       // No update this epoch: Psi = 0 (C_BB is C^0_BB), a joined row of Phi
       // is [0, I] (its row of C^0 outside A is current) and the pose and new
       // rows of Phi live in the pose columns only (predictions, additions).
-      const int P0 = poseDim();
-      cpu_la::gemm(la_, false, true, 1.0, MatrixXd(Phi_.leftCols(P0)), MatrixXd(X.leftCols(P0)), 0.0, &R);
-      for (int s : basis_)  // joined rows: their own stored row outside A
-        for (int r = 0; r < 3; ++r) {
-          const int ia = active_pos_[s] + r, si = row(s) + r;
-          R.row(ia).head(si) = C_.row(si).head(si);
-          R.row(ia).segment(si, n - si) = C_.col(si).segment(si, n - si).transpose();
-        }
+      cpu_la::gemm(la_, false, true, 1.0, MatrixXd(Phi_.leftCols(P)), MatrixXd(X.leftCols(P)), 0.0, &R);
     }
+    // Joined rows of an epoch without update are current outside A already:
+    // only their entries inside A are written.
+    std::vector<char> inside_only(a, 0);
+    if (!updated_in_epoch_)
+      for (int s : basis_)
+        for (int r = 0; r < 3; ++r) inside_only[active_pos_[s] + r] = 1;
     for (int ia = 0; ia < a; ++ia)
       for (int ib = 0; ib < a; ++ib) R(ia, stateIndex(ib)) = Caa_(ia, ib);
     for (int ia = 0; ia < a; ++ia) {
       const int s = stateIndex(ia);
+      if (inside_only[ia]) {
+        for (int ib = 0; ib < a; ++ib) {
+          const int x = stateIndex(ib);
+          (s >= x ? C_(s, x) : C_(x, s)) = Caa_(ia, ib);
+        }
+        continue;
+      }
       C_.row(s).head(s) = R.row(ia).head(s);
       C_.col(s).segment(s, n - s) = R.row(ia).segment(s, n - s).transpose();
     }
