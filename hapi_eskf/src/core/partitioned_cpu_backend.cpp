@@ -424,23 +424,19 @@ class PartitionedCpuBackend final : public CovarianceBackend {
       // rows of Phi live in the pose columns only (predictions, additions).
       cpu_la::gemm(la_, false, true, 1.0, MatrixXd(Phi_.leftCols(P)), MatrixXd(X.leftCols(P)), 0.0, &R);
     }
-    // Joined rows of an epoch without update are current outside A already:
-    // only their entries inside A are written.
-    std::vector<char> inside_only(a, 0);
+    // Joined rows of an epoch without update are current already: outside A
+    // their stored rows are C^0, their entries with the pose and the new rows
+    // are written by those rows, and joined x joined blocks change only in an
+    // update. They are skipped.
+    std::vector<char> current(a, 0);
     if (!updated_in_epoch_)
       for (int s : basis_)
-        for (int r = 0; r < 3; ++r) inside_only[active_pos_[s] + r] = 1;
+        for (int r = 0; r < 3; ++r) current[active_pos_[s] + r] = 1;
     for (int ia = 0; ia < a; ++ia)
       for (int ib = 0; ib < a; ++ib) R(ia, stateIndex(ib)) = Caa_(ia, ib);
     for (int ia = 0; ia < a; ++ia) {
       const int s = stateIndex(ia);
-      if (inside_only[ia]) {
-        for (int ib = 0; ib < a; ++ib) {
-          const int x = stateIndex(ib);
-          (s >= x ? C_(s, x) : C_(x, s)) = Caa_(ia, ib);
-        }
-        continue;
-      }
+      if (current[ia]) continue;
       C_.row(s).head(s) = R.row(ia).head(s);
       C_.col(s).segment(s, n - s) = R.row(ia).segment(s, n - s).transpose();
     }
