@@ -14,6 +14,8 @@ HAPI_DEBIAN_PACKAGES=(
   libopencv-dev libeigen3-dev libgtest-dev googletest
   xplanet-images python3-numpy python3-yaml
   python3-matplotlib  # tools/eval plots (PNG)
+  libopenblas-dev  # hapi_eskf CPU backend: rank update and factorisations on OpenBLAS/LAPACK (cpu_linear_algebra.cpp)
+  libmrpt-dev  # hapi_eskf_mrpt_bench: MRPT's EKF update side by side with the CPU backend (bench only, optional)
   iproute2 iptables iputils-ping procps
   # system: evaluator/ground-truth nodes (Python messages), rviz under Xvfb + xwd screenshots
   python3-sensor-msgs python3-nav-msgs rviz xvfb x11-apps x11-utils

@@ -6,13 +6,23 @@
 //                   [--cpu-max-k 2000] [--visible 200] [--fresh 20] [--rank-reps 3]
 //                   [--cuda-rank-update auto|syrk|gemm|recursive]
 //                   [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]
+//                   [--cpu-la blas,eigen] [--covariance-update dense,partitioned]
+//                   [--partition-max-active N] [--scenario random|sweep] [--sweep-step N]
+//                   [--no-cpu-rates]
+// CPU rows: one per --cpu-la x --covariance-update pair (cpu-blas,
+// cpu-eigen, cpu-blas-partitioned, ...), side by side in the same run, with
+// this machine's DGEMM/DSYRK rates measured first (cpu_ceilings.hpp).
+// --scenario: which landmarks a frame re-observes (scenario.hpp Visibility):
+// random (the visible set jumps every frame, the default) or sweep.
 // The --precision and --cuda-* flags set the EskfSettings fields of the same
 // names (eskf_settings.def) for the CUDA backend (device 0, where the
 // ceilings are measured). Builds and runs without a GPU (CPU rows only).
+#include "cpu_ceilings.hpp"
 #include "device_ceilings.hpp"
 #include "scenario.hpp"
 
 #include "hapi_eskf/covariance_backend.hpp"
+#include "../src/core/cpu_linear_algebra.hpp"
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
 #include "hapi_eskf/cuda/cuda_backend.hpp"
 #include "../src/cuda/stage_times.hpp"
@@ -41,13 +51,24 @@ struct Options {
   int cpu_max_k = 2000;
   int visible = 200, fresh = 20;
   int rank_reps = 3;
+  std::vector<CpuLinearAlgebra> cpu_la = {CpuLinearAlgebra::kBlas, CpuLinearAlgebra::kEigen};
+  std::vector<CovarianceUpdate> cov_update = {CovarianceUpdate::kDense};
+  int partition_max_active = EskfSettings().partition_max_active;
+  Visibility visibility = Visibility::kRandom;
+  int sweep_step = 10;
+  bool cpu_rates = true;
 };
+
+template <typename E>
+std::vector<E> parseList(const std::string& text, const char* flag);
 
 [[noreturn]] void usage(const char* msg) {
   std::fprintf(stderr,
                "error: %s\nusage: hapi_eskf_bench [--k 1000,2000] [--iters N] [--cpu-iters N] [--backend cpu|cuda|both]\n"
                "       [--precision fp64|fp32] [--cpu-max-k K] [--visible L] [--fresh M] [--rank-reps N]\n"
-               "       [--cuda-rank-update auto|syrk|gemm|recursive] [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]\n",
+               "       [--cuda-rank-update auto|syrk|gemm|recursive] [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]\n"
+               "       [--cpu-la blas,eigen] [--covariance-update dense,partitioned] [--partition-max-active N]\n"
+               "       [--scenario random|sweep] [--sweep-step N] [--no-cpu-rates]\n",
                msg);
   std::exit(2);
 }
@@ -95,6 +116,21 @@ Options parse(int argc, char** argv) {
       o.visible = toInt(next(), "--visible");
     } else if (a == "--rank-reps") {
       o.rank_reps = toInt(next(), "--rank-reps");
+    } else if (a == "--cpu-la") {
+      o.cpu_la = parseList<CpuLinearAlgebra>(next(), "--cpu-la");
+    } else if (a == "--covariance-update") {
+      o.cov_update = parseList<CovarianceUpdate>(next(), "--covariance-update");
+    } else if (a == "--partition-max-active") {
+      o.partition_max_active = toInt(next(), "--partition-max-active");
+    } else if (a == "--scenario") {
+      const std::string v = next();
+      if (v == "random") o.visibility = Visibility::kRandom;
+      else if (v == "sweep") o.visibility = Visibility::kSweep;
+      else usage("--scenario must be random or sweep");
+    } else if (a == "--sweep-step") {
+      o.sweep_step = toInt(next(), "--sweep-step");
+    } else if (a == "--no-cpu-rates") {
+      o.cpu_rates = false;
     } else if (a == "--fresh") {
       o.fresh = toInt(next(), "--fresh");
     } else {
@@ -107,6 +143,26 @@ Options parse(int argc, char** argv) {
   for (int k : o.ks)
     if (k < o.visible + o.fresh) usage("every K must be >= visible + fresh");
   return o;
+}
+
+template <typename E>
+std::vector<E> parseList(const std::string& text, const char* flag) {
+  std::vector<E> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    E e;
+    if (!parseValue(item, &e)) usage((std::string("bad value for ") + flag + ": " + item).c_str());
+    out.push_back(e);
+  }
+  if (out.empty()) usage((std::string(flag) + " needs at least one value").c_str());
+  return out;
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
 }
 
 double median(std::vector<double> v) {
@@ -125,6 +181,9 @@ struct Row {
   double mem_gb = 0;
   double moved = 0;  // landmarks moved into freed slots per removal (median)
   int n_updated = 0;
+  double total_p99 = 0, total_max = 0;
+  int flushes = 0;         // partitioned: flushes in the measured iterations
+  double flush_ms = 0;     // their mean time
   // Medians of the update's device stages (--cuda-stage-times, CUDA rows).
   std::vector<double> stages;
 };
@@ -142,13 +201,13 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     r.note = "backend not created";
     return r;
   }
-  Scenario sc(std::move(b), K, o.visible, o.fresh, 1234u + K);
+  Scenario sc(std::move(b), K, o.visible, o.fresh, 1234u + K, o.visibility, o.sweep_step);
   if (!sc.fill()) {
     r.note = "filling the pool failed";
     return r;
   }
   r.note.clear();
-  std::vector<double> a, rm, ad, pr, up, to, bk, nu, mv;
+  std::vector<double> a, rm, ad, pr, up, to, bk, nu, mv, fl;
   bool ok = true;
   std::vector<std::vector<double>> stage_samples(kStageCount);
   for (int i = 0; i < warmup + iters; ++i) {
@@ -173,6 +232,8 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     bk.push_back(t.removal + t.addition);
     nu.push_back(t.n_updated);
     mv.push_back(t.removal_moved_landmarks);
+    r.flushes += t.flushes;
+    if (t.flushes > 0) fl.push_back(t.flush_ms / t.flushes);
   }
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
   for (const cuda::UpdateStageTimes& u : cuda::takeUpdateStageTimes()) {
@@ -192,6 +253,11 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   r.predict = median(pr);
   r.update = median(up);
   r.total = median(to);
+  r.total_p99 = quantile(to, 0.99);
+  r.total_max = to.empty() ? 0.0 : *std::max_element(to.begin(), to.end());
+  double fsum = 0;
+  for (double f : fl) fsum += f;
+  r.flush_ms = fl.empty() ? 0.0 : fsum / fl.size();
   r.bookkeeping = median(bk);
   r.n_updated = static_cast<int>(median(nu));
   r.moved = median(mv);
@@ -209,6 +275,11 @@ int main(int argc, char** argv) {
   std::printf("stage times are medians over the measured iterations (after %d warm-up on CUDA, %d on CPU), in ms; "
               "total = predict + association + update + removal + addition\n",
               o.warmup, o.cpu_warmup);
+  if (o.visibility == Visibility::kSweep)
+    std::printf("scenario: sweep, the view advances %d landmarks per frame (%d of %d visible change per frame)\n",
+                o.sweep_step, o.sweep_step, o.visible);
+  else
+    std::printf("scenario: random, the visible set jumps every frame\n");
   std::printf("CUDA variants: rank update %s, solve %s (auto = by size, the default); stage times %s\n",
               valueText(o.backend.cuda_rank_update).c_str(), valueText(o.backend.cuda_solve).c_str(),
               o.backend.cuda_stage_times ? "on" : "off");
@@ -223,6 +294,24 @@ int main(int argc, char** argv) {
                   ceil.device.c_str(), fp32 ? "FP32" : "FP64", ceil.gemm_tflops, ceil.copy_gbps);
     } else {
       std::printf("CUDA rows skipped: %s\n", why.c_str());
+    }
+  }
+
+  std::map<int, std::map<std::string, CpuRates>> cpu_rates;  // K -> la -> rates at the update's shape
+  if (o.cpu && o.cpu_rates) {
+    std::printf("CPU linear algebra of this machine (same run; OpenBLAS %s):\n",
+                cpu_la::blasCompiledIn() ? "compiled in" : "NOT compiled in, blas = eigen");
+    for (CpuLinearAlgebra la : o.cpu_la)
+      std::printf("  %s DGEMM 1536^3: %.1f GFLOP/s\n", valueText(la).c_str(), measureCpuGemm(la, 1536, 2));
+    for (int K : o.ks) {
+      if (K > o.cpu_max_k) continue;
+      const int n = stateDim(K, kCameraMotionDim), k = 3 * o.visible;
+      for (CpuLinearAlgebra la : o.cpu_la) {
+        const CpuRates cr = measureCpuUpdateShapes(la, n, k, 3);
+        cpu_rates[K][valueText(la)] = cr;
+        std::printf("  %s K=%d (n=%d, k=%d): DSYRK %.2f ms = %.1f GFLOP/s, DPOTRF+DTRSM %.2f ms = %.1f GFLOP/s\n",
+                    valueText(la).c_str(), K, n, k, cr.syrk_ms, cr.syrk_gflops, cr.factor_ms, cr.factor_gflops);
+      }
     }
   }
 
@@ -250,22 +339,62 @@ int main(int argc, char** argv) {
       }
 #endif
     }
-    if (o.cpu && K <= o.cpu_max_k) rows.push_back(run("cpu", makeCpuBackend(K, Scenario::kDescLen), K, o.cpu_iters, o.cpu_warmup, o));
+    if (o.cpu && K <= o.cpu_max_k)
+      for (CovarianceUpdate cu : o.cov_update)
+        for (CpuLinearAlgebra la : o.cpu_la) {
+          auto b = cu == CovarianceUpdate::kPartitioned
+                       ? makePartitionedCpuBackend(K, Scenario::kDescLen, kCameraMotionDim, la, o.partition_max_active)
+                       : makeCpuBackend(K, Scenario::kDescLen, kCameraMotionDim, la);
+          const std::string name = b->name();
+          rows.push_back(run(name, std::move(b), K, o.cpu_iters, o.cpu_warmup, o));
+        }
     for (const Row& r : rows)
       if (r.K == K)
         std::printf("  K=%d %s: %s total %.3f ms\n", K, r.backend.c_str(), r.ok ? "ok" : r.note.c_str(), r.total);
   }
 
   std::printf("\n| backend | K | iters | association | removal | addition | predict | update | total | bookkeeping "
-              "(rem+add) | memory GB | L used | moved per removal |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "(rem+add) | memory GB | L used | moved per removal | total p99 | total max | flushes | ms per flush |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     if (!r.ok) {
       std::printf("| %s | %d | - | %s |\n", r.backend.c_str(), r.K, r.note.c_str());
       continue;
     }
-    std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d | %.0f |\n",
+    std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d | %.0f | %.3f | %.3f | %d | %.3f |\n",
                 r.backend.c_str(), r.K, r.iters, r.assoc, r.removal, r.addition, r.predict, r.update, r.total,
-                r.bookkeeping, r.mem_gb, r.n_updated, r.moved);
+                r.bookkeeping, r.mem_gb, r.n_updated, r.moved, r.total_p99, r.total_max, r.flushes, r.flush_ms);
+  }
+
+  // CPU variants side by side (same run): each against the first CPU row of
+  // its K, and the dense rows' update rate against this machine's rates.
+  bool cpu_header = false;
+  for (const Row& r : rows) {
+    if (r.backend.rfind("cpu", 0) != 0 || !r.ok) continue;
+    const Row* first = nullptr;
+    for (const Row& c : rows)
+      if (c.K == r.K && c.ok && c.backend.rfind("cpu", 0) == 0) {
+        first = &c;
+        break;
+      }
+    if (!cpu_header) {
+      std::printf("\nCPU variants (same run; ratio = this row / the first CPU row of its K; update rate = "
+                  "(n^2 k + n k^2 + k^3/3) / update time, k = 3 x L used, vs DSYRK of that shape and DGEMM):\n"
+                  "| backend | K | update ms | total ms | update ratio | total ratio | update GFLOP/s | DSYRK GFLOP/s "
+                  "| DSYRK / update rate |\n|---|---|---|---|---|---|---|---|---|\n");
+      cpu_header = true;
+    }
+    const int n = stateDim(r.K, kCameraMotionDim), k = 3 * r.n_updated;
+    const double rate = r.update > 0 ? updateFlops(n, k) / (r.update * 1e-3) / 1e9 : 0.0;
+    const std::string la = r.backend.find("eigen") != std::string::npos ? "eigen" : "blas";
+    double syrk = 0;
+    if (cpu_rates.count(r.K) && cpu_rates[r.K].count(la)) syrk = cpu_rates[r.K][la].syrk_gflops;
+    if (r.backend.find("partitioned") != std::string::npos)  // fewer flops by design: no dense rate
+      std::printf("| %s | %d | %.3f | %.3f | %.2f | %.2f | - | %.1f | - |\n", r.backend.c_str(), r.K, r.update, r.total,
+                  r.update / first->update, r.total / first->total, syrk);
+    else
+      std::printf("| %s | %d | %.3f | %.3f | %.2f | %.2f | %.1f | %.1f | %.2f |\n", r.backend.c_str(), r.K, r.update,
+                  r.total, r.update / first->update, r.total / first->total, rate, syrk, rate > 0 ? syrk / rate : 0.0);
   }
 
   // The update's device stages, where recorded (--cuda-stage-times).
@@ -292,16 +421,16 @@ int main(int argc, char** argv) {
   // GPU/CPU ratios where both ran.
   bool header = false;
   for (const Row& g : rows) {
-    if (g.backend == "cpu" || !g.ok) continue;
+    if (g.backend.rfind("cpu", 0) == 0 || !g.ok) continue;
     for (const Row& c : rows) {
-      if (c.backend != "cpu" || c.K != g.K || !c.ok) continue;
+      if (c.backend.rfind("cpu", 0) != 0 || c.K != g.K || !c.ok) continue;
       if (!header) {
-        std::printf("\nspeed-up CPU/GPU (same run):\n| K | association | removal | addition | predict | update | total |\n"
-                    "|---|---|---|---|---|---|---|\n");
+        std::printf("\nspeed-up CPU/GPU (same run):\n| CPU row | K | association | removal | addition | predict | update | total |\n"
+                    "|---|---|---|---|---|---|---|---|\n");
         header = true;
       }
       auto q = [](double a, double b) { return b > 0 ? a / b : 0.0; };
-      std::printf("| %d | %.1fx | %.1fx | %.1fx | %.1fx | %.1fx | %.1fx |\n", g.K, q(c.assoc, g.assoc),
+      std::printf("| %s | %d | %.1fx | %.1fx | %.1fx | %.1fx | %.1fx | %.1fx |\n", c.backend.c_str(), g.K, q(c.assoc, g.assoc),
                   q(c.removal, g.removal), q(c.addition, g.addition), q(c.predict, g.predict), q(c.update, g.update),
                   q(c.total, g.total));
     }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 
 namespace hapi_eskf {
@@ -26,8 +27,15 @@ bool check(Status s, const char* stage, StageTimes* st) {
 
 }  // namespace
 
-Scenario::Scenario(std::unique_ptr<CovarianceBackend> backend, int K, int visible, int fresh, unsigned seed)
-    : b_(std::move(backend)), K_(K), visible_(visible), fresh_(fresh), rng_(seed) {
+Scenario::Scenario(std::unique_ptr<CovarianceBackend> backend, int K, int visible, int fresh, unsigned seed,
+                   Visibility visibility, int sweep_step)
+    : b_(std::move(backend)),
+      K_(K),
+      visible_(visible),
+      fresh_(fresh),
+      rng_(seed),
+      visibility_(visibility),
+      sweep_step_(sweep_step) {
   s_.max_landmarks = K;
   s_.max_new_landmarks = fresh;
   s_.max_update_landmarks = visible;
@@ -69,14 +77,33 @@ bool Scenario::fill() {
       positions_.push_back(pos);
       desc_.push_back(d[i]);
       last_seen_.push_back(0.0);
+      u_.push_back(std::uniform_real_distribution<double>(0.0, 1.0)(rng_));
     }
     if (b_->addLandmarks(blocks) != Status::kOk) return false;
   }
   return true;
 }
 
+std::vector<int> Scenario::visibleSlots(int K) {
+  std::vector<int> seen(K);
+  std::iota(seen.begin(), seen.end(), 0);
+  const int n = std::min(visible_, K);
+  if (visibility_ == Visibility::kRandom) {
+    std::shuffle(seen.begin(), seen.end(), rng_);
+  } else {
+    cursor_ = std::fmod(cursor_ + static_cast<double>(sweep_step_) / K_, 1.0);
+    auto ahead = [&](int k) { return std::fmod(u_[k] - cursor_ + 1.0, 1.0); };
+    std::nth_element(seen.begin(), seen.begin() + n, seen.end(), [&](int a, int b) { return ahead(a) < ahead(b); });
+  }
+  seen.resize(n);
+  return seen;
+}
+
 StageTimes Scenario::iterate() {
   StageTimes st;
+  int flushes0 = 0;
+  double flush_s0 = 0;
+  const bool partitioned = partitionedFlushStats(*b_, &flushes0, &flush_s0);
   const auto t_start = Clock::now();
   const double dt = 1.0 / 30.0;
 
@@ -91,10 +118,7 @@ StageTimes Scenario::iterate() {
   // The frame (not timed: the front end's job): `visible_` pool landmarks
   // re-observed (1 cm noise, 2 flipped descriptor bits) and `fresh_` new points.
   const int K = b_->numLandmarks();
-  std::vector<int> seen(K);
-  std::iota(seen.begin(), seen.end(), 0);
-  std::shuffle(seen.begin(), seen.end(), rng_);
-  seen.resize(std::min(visible_, K));
+  const std::vector<int> seen = visibleSlots(K);
   StereoFrame frame;
   frame.stamp = t_;
   frame.descriptor_length = kDescLen;
@@ -174,6 +198,7 @@ StageTimes Scenario::iterate() {
     applyRemoval(moves, K - n_evict, &positions_);
     applyRemoval(moves, K - n_evict, &desc_);
     applyRemoval(moves, K - n_evict, &last_seen_);
+    applyRemoval(moves, K - n_evict, &u_);
     st.removal_moved_landmarks = static_cast<int>(moves.size());
   }
   st.n_removed = n_evict;
@@ -192,11 +217,20 @@ StageTimes Scenario::iterate() {
     positions_.push_back(pos);
     desc_.push_back(nd.back());
     last_seen_.push_back(t_);
+    // Inside the current view (kSweep); unused by kRandom.
+    u_.push_back(std::fmod(cursor_ + std::uniform_real_distribution<double>(0.0, 1.0)(rng_) * visible_ / K_, 1.0));
   }
   if (!check(b_->addLandmarks(nb), "addition", &st)) return st;
   st.n_added = static_cast<int>(nb.size());
   st.addition = msSince(t0);
   (void)t_start;
+  if (partitioned) {
+    int flushes1 = 0;
+    double flush_s1 = 0;
+    partitionedFlushStats(*b_, &flushes1, &flush_s1);
+    st.flushes = flushes1 - flushes0;
+    st.flush_ms = 1e3 * (flush_s1 - flush_s0);
+  }
   // Full iteration = the five stages (frame synthesis above is the front end's work).
   st.total = st.predict + st.association + st.update + st.removal + st.addition;
   return st;

@@ -4,6 +4,14 @@
 // iteration. It drives the backend with the filter's own host code
 // (jacobians.hpp, association.hpp) in the order of Eskf::processFrame:
 // predict -> association -> update -> removal -> addition.
+// Which pool landmarks a frame re-observes (Visibility):
+//  * kRandom: a random set every frame, i.e. the visible set jumps every frame
+//    (the worst case of the partitioned update, and the original scenario);
+//  * kSweep: a camera sweeping the map: every landmark has a map coordinate u
+//    in [0, 1), the frame sees the `visible` landmarks at or after the cursor
+//    (cyclically), and the cursor advances by sweep_step / K per frame, so
+//    sweep_step landmarks leave and as many enter the view per frame; new
+//    landmarks are placed inside the current view.
 #pragma once
 
 #include "hapi_eskf/association.hpp"
@@ -25,14 +33,21 @@ struct StageTimes {
   // Landmarks the removal moved into freed slots (removal_plan.hpp): each
   // move copies 3 rows/columns of C, 3 (12 + 3K) elements.
   int removal_moved_landmarks = 0;
+  // Flushes of a partitioned backend during this iteration and their time [ms]
+  // (included in the stage that triggered them).
+  int flushes = 0;
+  double flush_ms = 0;
   bool ok = true;
   std::string failure;  // "<stage>: <status>" of the first failed call
 };
 
+enum class Visibility { kRandom, kSweep };
+
 class Scenario {
  public:
   static constexpr int kDescLen = 32;
-  Scenario(std::unique_ptr<CovarianceBackend> backend, int K, int visible, int fresh, unsigned seed);
+  Scenario(std::unique_ptr<CovarianceBackend> backend, int K, int visible, int fresh, unsigned seed,
+           Visibility visibility = Visibility::kRandom, int sweep_step = 10);
 
   // Fills the pool to K (batched additions; not timed). false on error.
   bool fill();
@@ -43,6 +58,7 @@ class Scenario {
  private:
   std::vector<uint8_t> randomDescriptor();
   NewLandmarkBlock newBlock(const Vec3& z, const std::vector<uint8_t>& d, Vec3* position) const;
+  std::vector<int> visibleSlots(int K);
 
   std::unique_ptr<CovarianceBackend> b_;
   EskfSettings s_;
@@ -53,6 +69,10 @@ class Scenario {
   std::vector<Vec3> positions_;
   std::vector<std::vector<uint8_t>> desc_;  // host copy, same slot order
   std::vector<double> last_seen_;
+  Visibility visibility_;
+  int sweep_step_;
+  double cursor_ = 0;       // kSweep: map coordinate of the view's start
+  std::vector<double> u_;   // kSweep: map coordinate per slot
 };
 
 }  // namespace bench

@@ -1,6 +1,7 @@
 // The part of the filter whose cost grows with the pool: the dense error-state
 // covariance C (n x n, n = P + 3K, P the motion model's pose block) and the landmark descriptors. Two
-// implementations: Eigen on the CPU (reference, CI) and CUDA (C resident on the
+// implementations: the CPU (OpenBLAS or Eigen; dense or partitioned update,
+// docs/DESIGN.md "Partitioned update"; the reference, CI) and CUDA (C resident on the
 // GPU, cuBLAS/cuSOLVER + own kernels). The nominal state and all O(1)-per-
 // landmark algebra (Jacobians, innovations, injection) stay in Eskf on the host.
 //
@@ -149,10 +150,22 @@ class CovarianceBackend : public AssociationSource {
   int pose_dim_;
 };
 
-// Eigen reference backend. Always available. pose_dim is P (types.hpp);
-// nullptr outside [6, kMaxPoseDim].
+// Dense CPU backend. Always available; `la` picks OpenBLAS/LAPACK or Eigen
+// (setting cpu_linear_algebra; Eigen in a build without OpenBLAS, the name
+// says which: cpu-blas or cpu-eigen). pose_dim is P (types.hpp); nullptr
+// outside [6, kMaxPoseDim].
 std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_length,
-                                                  int pose_dim = kCameraMotionDim);
+                                                  int pose_dim = kCameraMotionDim,
+                                                  CpuLinearAlgebra la = CpuLinearAlgebra::kBlas);
+// The partitioned CPU backend (docs/DESIGN.md "Partitioned update"): exact,
+// per-update work in the active landmarks, the rest of C deferred to a flush
+// when more than max_active landmarks are active. Same contract and results
+// as makeCpuBackend's; nullptr on bad sizes (max_active < 1 too).
+std::unique_ptr<CovarianceBackend> makePartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim,
+                                                             CpuLinearAlgebra la, int max_active);
+// Flushes done so far by a partitioned backend and their wall time [s] (for
+// the benchmark); false for any other backend.
+bool partitionedFlushStats(const CovarianceBackend& b, int* flushes, double* seconds);
 
 // The backend named in settings, with the pose block of its motion_model;
 // nullptr (and *error set) when it cannot be

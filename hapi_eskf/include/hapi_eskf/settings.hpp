@@ -19,6 +19,12 @@ enum class Precision { kFp64, kFp32 };  // storage/compute precision of C (CUDA 
 // CUDA backend variants (src/cuda/blas_traits.hpp): kAuto chooses by size.
 enum class CudaRankUpdate { kAuto, kSyrk, kPanelGemm, kRecursive };
 enum class CudaSolve { kAuto, kTrsm, kInverse };
+// Dense linear algebra of the CPU backend (src/core/cpu_linear_algebra.hpp):
+// OpenBLAS/LAPACK (DSYRK, DGEMM, DPOTRF, DTRSM) or Eigen alone.
+enum class CpuLinearAlgebra { kBlas, kEigen };
+// How the covariance absorbs an update (docs/DESIGN.md "Partitioned update"):
+// the whole C every frame, or the active part now and the rest deferred.
+enum class CovarianceUpdate { kDense, kPartitioned };
 // The motion model of the pose block (motion_model.hpp).
 enum class MotionModelKind { kConstantVelocity, kGyro, kInertial };
 
@@ -54,6 +60,17 @@ template <>
 struct EnumNames<CudaSolve> {
   static constexpr EnumName<CudaSolve> kNames[] = {
       {CudaSolve::kAuto, "auto"}, {CudaSolve::kTrsm, "trsm"}, {CudaSolve::kInverse, "inverse"}};
+};
+
+template <>
+struct EnumNames<CpuLinearAlgebra> {
+  static constexpr EnumName<CpuLinearAlgebra> kNames[] = {{CpuLinearAlgebra::kBlas, "blas"},
+                                                          {CpuLinearAlgebra::kEigen, "eigen"}};
+};
+template <>
+struct EnumNames<CovarianceUpdate> {
+  static constexpr EnumName<CovarianceUpdate> kNames[] = {{CovarianceUpdate::kDense, "dense"},
+                                                          {CovarianceUpdate::kPartitioned, "partitioned"}};
 };
 
 // Smallest RANSAC inlier set that may relocalise the pose (relocalise_gap):

@@ -1,5 +1,6 @@
 // Backend selection from the settings; the CUDA entry points are compiled in
 // only when src/cuda was built (HAPI_ESKF_WITH_CUDA).
+#include "cpu_linear_algebra.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/motion_model.hpp"
 
@@ -38,7 +39,15 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
       if (error) *error = "the cpu backend supports precision fp64 only";
       return nullptr;
     }
-    return makeCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model));
+    if (s.cpu_linear_algebra == CpuLinearAlgebra::kBlas) cpu_la::setBlasThreads(s.cpu_blas_threads);
+    if (s.covariance_update == CovarianceUpdate::kPartitioned)
+      return makePartitionedCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model),
+                                       s.cpu_linear_algebra, s.partition_max_active);
+    return makeCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s.cpu_linear_algebra);
+  }
+  if (s.covariance_update != CovarianceUpdate::kDense) {
+    if (error) *error = "covariance_update partitioned is implemented on the cpu backend only";
+    return nullptr;
   }
 #ifdef HAPI_ESKF_WITH_CUDA
   std::string err;

@@ -1,20 +1,21 @@
-// Eigen reference backend (docs/DESIGN.md "CPU reference backend", "Update", "New landmark", "Removal").
-// Storage: one capacity-sized column-major buffer (N = P + 3*capacity square);
+// Dense CPU backend (docs/DESIGN.md "CPU backend", "Update", "New landmark", "Removal"): the
+// large products and factorisations on OpenBLAS/LAPACK or Eigen (cpu_linear_algebra.hpp,
+// setting cpu_linear_algebra), the small blocks in Eigen. Storage: one capacity-sized column-major buffer (N = P + 3*capacity square);
 // the live state is its top-left n x n corner, landmarks in contiguous slots,
 // and only the LOWER triangle of that corner is authoritative (the SYRK-style
 // rank update writes just that triangle). The inputs arrive checked
 // (CovarianceBackend's public methods, src/core/covariance_backend.cpp); the
 // failures found while computing are returned before C is touched, so an
 // error return leaves the state bit-for-bit unchanged.
+#include "cpu_linear_algebra.hpp"
+#include "cpu_update_steps.hpp"
+#include "lower_triangle.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/descriptor_pool.hpp"
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/removal_plan.hpp"
 
-#include <Eigen/Cholesky>
-
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 
 namespace hapi_eskf {
@@ -25,15 +26,16 @@ using Eigen::VectorXd;
 
 class CpuBackend final : public CovarianceBackend {
  public:
-  CpuBackend(int capacity, int descriptor_length, int pose_dim)
+  CpuBackend(int capacity, int descriptor_length, int pose_dim, CpuLinearAlgebra la)
       : CovarianceBackend(pose_dim),
+        la_(cpu_la::effective(la)),
         capacity_(capacity),
         desc_len_(descriptor_length),
         N_(stateDim(capacity, pose_dim)),
         C_(MatrixXd::Zero(N_, N_)),
         desc_(static_cast<std::size_t>(capacity) * descriptor_length, 0) {}
 
-  const char* name() const override { return "cpu"; }
+  const char* name() const override { return la_ == CpuLinearAlgebra::kBlas ? "cpu-blas" : "cpu-eigen"; }
   int capacity() const override { return capacity_; }
   int numLandmarks() const override { return K_; }
   int descriptorLength() const override { return desc_len_; }
@@ -93,53 +95,7 @@ class CpuBackend final : public CovarianceBackend {
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
-    const int n = dim();
-    const int L = static_cast<int>(blocks.size());
-    const int m = 3 * L;
-
-    // 1. P = C H^T by gathering: the 6 pose columns once, then 3 landmark
-    //    columns per measurement (full columns rebuilt from the lower triangle).
-    const MatrixXd Cx6 = gatherColumns(0, 6, n);  // n x 6
-    MatrixXd P(n, m);
-    MatrixXd G3(n, 3);
-    for (int j = 0; j < L; ++j) {
-      const auto& b = blocks[j];
-      gatherColumnsInto(row(b.slot), 3, n, &G3);
-      P.middleCols<3>(3 * j).noalias() = Cx6 * b.H_pose.transpose();
-      P.middleCols<3>(3 * j).noalias() += G3 * b.H_landmark.transpose();
-    }
-    // 2. S = H P + R (only the rows of P that H touches), symmetrised.
-    MatrixXd S(m, m);
-    VectorXd z(m);
-    for (int i = 0; i < L; ++i) {
-      const auto& b = blocks[i];
-      const int r = row(b.slot);
-      S.middleRows<3>(3 * i).noalias() = b.H_pose * P.topRows<6>();
-      S.middleRows<3>(3 * i).noalias() += b.H_landmark * P.middleRows<3>(r);
-      z.segment<3>(3 * i) = b.innovation;
-    }
-    for (int i = 0; i < L; ++i) S.block<3, 3>(3 * i, 3 * i) += blocks[i].R;
-    S = (0.5 * (S + S.transpose())).eval();
-    if (!S.allFinite()) return Status::kNonFinite;
-    Eigen::LLT<MatrixXd> llt(S);
-    if (llt.info() != Eigen::Success) return Status::kNotPositiveDefinite;
-    {
-      // Eigen's LLT only fails on a non-positive pivot; also refuse a
-      // numerically singular factor, which would blow up the gain.
-      const VectorXd d = llt.matrixLLT().diagonal();
-      if (!(d.minCoeff() > 1e-12 * std::sqrt(std::max(1e-300, S.diagonal().maxCoeff()))))
-        return Status::kNotPositiveDefinite;
-    }
-    // 3. A = P L^-T (triangular solve from the right), y = L^-1 z, dx = A y.
-    llt.matrixU().solveInPlace<Eigen::OnTheRight>(P);
-    const VectorXd y = llt.matrixL().solve(z);
-    VectorXd dxn = P * y;
-    if (!dxn.allFinite()) return Status::kNonFinite;
-    // 4. C <- C - A A^T on the lower triangle only (SYRK).
-    C_.topLeftCorner(n, n).selfadjointView<Eigen::Lower>().rankUpdate(P, -1.0);
-    *dx = std::move(dxn);
-    if (nis) *nis = y.squaredNorm();
-    return Status::kOk;
+    return cpu_update::denseUpdateLower(la_, &C_, dim(), poseDim(), blocks, dx, nis);
   }
 
   Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
@@ -165,29 +121,14 @@ class CpuBackend final : public CovarianceBackend {
     return Status::kOk;
   }
 
-  // Fill holes from the tail (removal_plan.hpp): each moved landmark's 3 rows
-  // and columns are copied into its new slot, nothing else moves. Every source
-  // element has an index >= n_new (the movers sit in slots >= K - r) and every
-  // destination both indices < n_new, so the copies cannot overwrite a source.
+  // Fill holes from the tail (lower_triangle.hpp, removal_plan.hpp); nothing else moves.
   Status doRemoveLandmarks(const std::vector<int>& slots) override {
-    const int K_new = K_ - static_cast<int>(slots.size());
-    const int P = poseDim(), n_new = stateDim(K_new, P);
-    const std::vector<SlotMove> moves = tailFillMoves(K_, slots);
-    const std::vector<int> old_slot = oldSlotOfNew(K_new, moves);
-    auto oldIndex = [&](int j) {
-      return j < P ? j : row(old_slot[(j - P) / 3]) + (j - P) % 3;
-    };
-    auto at = [&](int i, int j) -> double& { return i >= j ? C_(i, j) : C_(j, i); };  // lower triangle
-    for (const SlotMove& mv : moves) {
-      for (int r = 0; r < 3; ++r) {
-        const int dst = row(mv.to) + r, src = row(mv.from) + r;
-        for (int j = 0; j < n_new; ++j) at(dst, j) = at(src, oldIndex(j));
-      }
-      if (desc_len_ > 0)
+    const std::vector<SlotMove> moves = lower_triangle::fillHolesFromTail(&C_, K_, slots, poseDim());
+    if (desc_len_ > 0)
+      for (const SlotMove& mv : moves)
         std::memcpy(&desc_[static_cast<std::size_t>(mv.to) * desc_len_],
                     &desc_[static_cast<std::size_t>(mv.from) * desc_len_], desc_len_);
-    }
-    K_ = K_new;
+    K_ -= static_cast<int>(slots.size());
     return Status::kOk;
   }
 
@@ -218,18 +159,11 @@ class CpuBackend final : public CovarianceBackend {
     return G;
   }
 
-  // Full columns c0..c0+w-1 of the symmetric C (rows 0..n-1) from its lower
-  // triangle: entries above the diagonal come from row c (strided), those on
-  // and below from column c (contiguous). O(n w).
   void gatherColumnsInto(int c0, int w, int n, MatrixXd* G) const {
-    for (int t = 0; t < w; ++t) {
-      const int c = c0 + t;
-      auto g = G->col(t);
-      g.head(c) = C_.row(c).head(c).transpose();
-      g.tail(n - c) = C_.col(c).segment(c, n - c);
-    }
+    lower_triangle::gatherColumns(C_, c0, w, n, *G);
   }
 
+  CpuLinearAlgebra la_;
   int capacity_;
   int desc_len_;
   int N_;
@@ -240,9 +174,10 @@ class CpuBackend final : public CovarianceBackend {
 
 }  // namespace
 
-std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_length, int pose_dim) {
+std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_length, int pose_dim,
+                                                  CpuLinearAlgebra la) {
   if (capacity < 0 || descriptor_length < 0 || pose_dim < 6 || pose_dim > kMaxPoseDim) return nullptr;
-  return std::make_unique<CpuBackend>(capacity, descriptor_length, pose_dim);
+  return std::make_unique<CpuBackend>(capacity, descriptor_length, pose_dim, la);
 }
 
 }  // namespace hapi_eskf
