@@ -222,10 +222,7 @@ Status Eskf::checkFrame(const StereoFrame& frame) const {
 }
 
 Mat3 Eskf::redetectionCovariance(const Vec3& z) const {
-  const double s = settings_.measurement_angular_sigma, d2 = z.squaredNorm();
-  if (!(s > 0.0) || !(d2 > 0.0)) return Mat3::Zero();
-  // (s |z|)^2 (I - z z^T / |z|^2) = s^2 (|z|^2 I - z z^T)
-  return s * s * (d2 * Mat3::Identity() - z * z.transpose());
+  return hapi_eskf::redetectionCovariance(z, settings_.measurement_angular_sigma);
 }
 
 Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) {
