@@ -34,8 +34,6 @@ Status EskfRecorder::processFrame(Eskf* eskf, const StereoFrame& frame, Iteratio
 
   const PoseState pose = eskf->pose();
   const std::vector<LandmarkInfo> after = eskf->landmarks();
-  const int kf = graph_.addKeyframe(frame.stamp, pose.p, pose.q);
-  graph_.frames.push_back(FramePose{frame.stamp, kf, Vec3::Zero(), Eigen::Quaterniond::Identity()});
   std::unordered_map<uint64_t, const LandmarkInfo*> now;
   for (const LandmarkInfo& l : after) now.emplace(l.id, &l);
 
@@ -45,6 +43,7 @@ Status EskfRecorder::processFrame(Eskf* eskf, const StereoFrame& frame, Iteratio
     if (b != seen_before.end() && l.times_observed > b->second) ++used;
   }
   const int n = static_cast<int>(frame.measurements.size());
+  std::vector<std::pair<int, uint64_t>> observed;  // (measurement, landmark)
   for (int i = 0; i < n; ++i) {
     const StereoMeasurement& m = inflated.measurements[i];
     uint64_t id = 0;
@@ -65,9 +64,26 @@ Status EskfRecorder::processFrame(Eskf* eskf, const StereoFrame& frame, Iteratio
           break;
         }
     }
-    if (id == 0) continue;
-    graph_.landmarks[id].rgb = m.rgb;
-    graph_.addObservation(kf, id, m.z, m.Cz);
+    if (id != 0) observed.emplace_back(i, id);
+  }
+  if (static_cast<int>(observed.size()) >= min_observations_ || graph_.keyframes.empty()) {
+    const int kf = graph_.addKeyframe(frame.stamp, pose.p, pose.q);
+    graph_.frames.push_back(FramePose{frame.stamp, kf, Vec3::Zero(), Eigen::Quaterniond::Identity()});
+    for (const auto& o : observed) {
+      const StereoMeasurement& m = inflated.measurements[o.first];
+      graph_.landmarks[o.second].rgb = m.rgb;
+      graph_.addObservation(kf, o.second, m.z, m.Cz);
+    }
+  } else {
+    // Weakly observed: the frame rides on the previous keyframe.
+    const Keyframe& ref = graph_.keyframes.back();
+    FramePose f;
+    f.stamp = frame.stamp;
+    f.keyframe = static_cast<int>(graph_.keyframes.size()) - 1;
+    f.q_rel = (ref.q.conjugate() * pose.q).normalized();
+    f.p_rel = ref.q.conjugate() * (pose.p - ref.p);
+    graph_.frames.push_back(f);
+    for (const auto& o : observed) graph_.landmarks[o.second].rgb = inflated.measurements[o.first].rgb;
   }
   if (matched != used) ++mismatched_frames_;
   // The filter's latest estimates are the graph's initial values.

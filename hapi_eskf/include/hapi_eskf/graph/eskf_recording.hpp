@@ -24,6 +24,11 @@ namespace graph {
 
 class EskfRecorder {
  public:
+  // Frames with fewer than `min_keyframe_observations` observations are kept
+  // relative to the previous keyframe and their observations left out
+  // (GraphSettings::keyframe_min_observations).
+  explicit EskfRecorder(int min_keyframe_observations) : min_observations_(min_keyframe_observations) {}
+
   // One filter iteration on `eskf` (predictTo + processFrame: the same
   // result as processFrame alone), recorded. Returns the filter's status;
   // frames the filter rejects or holds back (relocalising) are not recorded.
@@ -33,6 +38,7 @@ class EskfRecorder {
   int mismatchedFrames() const { return mismatched_frames_; }
 
  private:
+  const int min_observations_;
   GraphMap graph_;
   int mismatched_frames_ = 0;
 };
