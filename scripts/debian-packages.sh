@@ -14,6 +14,7 @@ HAPI_DEBIAN_PACKAGES=(
   libopencv-dev libeigen3-dev libgtest-dev googletest
   xplanet-images python3-numpy python3-yaml
   python3-matplotlib  # tools/eval plots (PNG)
+  libceres-dev  # hapi_eskf Graph SLAM and graph_refine (src/graph; skipped without it)
   iproute2 iptables iputils-ping procps
   # system: evaluator/ground-truth nodes (Python messages), rviz under Xvfb + xwd screenshots
   python3-sensor-msgs python3-nav-msgs rviz xvfb x11-apps x11-utils
