@@ -1,11 +1,12 @@
 // Data association of one frame against the landmark pool (docs/DESIGN.md "Gate
 // each association"): descriptor best/second-best with a Hamming threshold and
 // a ratio test, then a chi^2(3) Mahalanobis gate with S_j = H_j M_j H_j^T + C_z
-// built from the backend's 9x9 marginals, then one measurement per landmark
-// (the one with the smallest Mahalanobis distance wins).
+// built from the back end's 9x9 marginals, then one measurement per landmark
+// (the one with the smallest Mahalanobis distance wins). Shared by every back
+// end: each provides descriptors and marginals as an AssociationSource.
 #pragma once
 
-#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/association_source.hpp"
 #include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
@@ -53,7 +54,7 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
 // the camera's (MotionModel::cameraJacobian; the identity for the camera
 // models), so the gate uses the same measurement Jacobian as the update.
 Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& camera_jacobian,
-                 const std::vector<Vec3>& positions, const CovarianceBackend& backend, const EskfSettings& settings,
+                 const std::vector<Vec3>& positions, const AssociationSource& source, const EskfSettings& settings,
                  Association* out);
 
 }  // namespace hapi_eskf

@@ -29,6 +29,7 @@
 // implementation's to report.
 #pragma once
 
+#include "hapi_eskf/association_source.hpp"
 #include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
@@ -61,20 +62,15 @@ struct NewLandmarkBlock {
   const uint8_t* descriptor = nullptr;  // descriptor_length bytes, copied by the backend
 };
 
-// Best and second-best pool landmark for one query descriptor.
-struct DescriptorMatch {
-  int best_slot = -1, best_distance = 1 << 30;
-  int second_slot = -1, second_distance = 1 << 30;
-};
-
-class CovarianceBackend {
+// The association reads descriptors and marginals through AssociationSource.
+class CovarianceBackend : public AssociationSource {
  public:
   virtual ~CovarianceBackend() = default;
   virtual const char* name() const = 0;
 
   int poseDim() const { return pose_dim_; }  // P, rows of the pose block
   virtual int capacity() const = 0;        // max landmarks
-  virtual int numLandmarks() const = 0;    // K
+  int numLandmarks() const override = 0;    // K
   virtual int descriptorLength() const = 0;  // bytes; fixed at construction
   virtual std::size_t memoryBytes() const = 0;  // C + work buffers + descriptors
 
@@ -91,7 +87,7 @@ class CovarianceBackend {
   // slot may repeat): the host builds S_j = H_j M_j H_j^T + R_j from it for
   // Mahalanobis gating. kInvalidArgument for a null `out` or a slot outside
   // [0, K).
-  Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const;
+  Status marginals(const std::vector<int>& slots, std::vector<Mat9>* out) const final;
 
   // Joint update with all blocks (docs/DESIGN.md "Update" steps 1-4): P = C H^T by gather,
   // S = H P + R, Cholesky S = L L^T, A = P L^-T, y = L^-1 innovation,
@@ -125,7 +121,7 @@ class CovarianceBackend {
   // negative n_query or null queries with n_query > 0. With nothing to
   // compare (no query, no landmark, descriptorLength() 0) every match is
   // empty (slots -1).
-  Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const;
+  Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const final;
 
   // Read-back for tests, the map and diagnostics (not used in the filter loop).
   virtual PoseMat poseCovariance() const = 0;                 // P x P

@@ -1,8 +1,11 @@
 // The error-state EKF over the motion model's pose block + landmark pool
 // (docs/DESIGN.md "Filter"). Host side: nominal state, landmark bookkeeping
-// (ids, positions, colours, statistics), Jacobians and association logic.
-// The covariance and the descriptors live in a CovarianceBackend (CPU or
-// GPU); the pose block is the MotionModel's (motion_model.hpp).
+// (LandmarkBook), Jacobians, the shared association (association.hpp) and
+// relocalisation (relocaliser.hpp). The covariance and the descriptors live
+// in a CovarianceBackend (CPU or GPU; the SEIF's information storage,
+// seif/seif_storage.hpp, behind the same contract); the pose block is the
+// MotionModel's (motion_model.hpp). One SlamBackend (slam_backend.hpp):
+// backend_algorithm eskf, and seif with the information storage.
 //
 // One processFrame() = predict to the frame stamp -> associate (descriptor
 // best/second-best + ratio test, RANSAC rigid fit, Mahalanobis gate) -> IMU
@@ -12,9 +15,12 @@
 #pragma once
 
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/landmark_book.hpp"
 #include "hapi_eskf/motion_model.hpp"
+#include "hapi_eskf/relocaliser.hpp"
 #include "hapi_eskf/scene_motion_monitor.hpp"
 #include "hapi_eskf/settings.hpp"
+#include "hapi_eskf/slam_backend.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
 
@@ -23,7 +29,7 @@
 
 namespace hapi_eskf {
 
-class Eskf {
+class Eskf final : public SlamBackend {
  public:
   // The backend's capacity must equal settings.max_landmarks and its pose
   // block the motion model's (poseDim(settings.motion_model)). `extrinsic`
@@ -40,17 +46,17 @@ class Eskf {
   // resets to the identity pose at 0; until a reset succeeds (invalid
   // settings, backend capacity or pose block mismatch) every other operation
   // returns kNotInitialised (kBackendUnavailable without a backend).
-  Status reset(const PoseState& initial, double stamp);
+  Status reset(const PoseState& initial, double stamp) override;
 
   // The camera in the IMU frame. The camera pose is kept (the inertial
   // model's body pose moves with the new extrinsic). kNonFinite,
   // kInvalidArgument (R not a rotation).
-  Status setCameraExtrinsic(const CameraExtrinsic& extrinsic);
+  Status setCameraExtrinsic(const CameraExtrinsic& extrinsic) override;
 
   // Prediction without a new IMU sample to `stamp` (no-op when stamp ==
   // current; constant velocity, or the inertial model's last sample held).
   // kInvalidArgument when stamp is earlier than the filter time.
-  Status predictTo(double stamp);
+  Status predictTo(double stamp) override;
 
   // One IMU sample (IMU frame, stamp on the camera clock:
   // imuSampleOnCameraClock). Its covariance step is chained with the other
@@ -60,7 +66,7 @@ class Eskf {
   // with it (motion_model.hpp predictStep); before the inertial model is
   // aligned the sample goes to the alignment window instead. kNonFinite,
   // kInvalidArgument (stamp before the filter time); state unchanged on error.
-  Status addImu(const ImuSample& sample);
+  Status addImu(const ImuSample& sample) override;
 
   // One filter iteration. On any input error (kNonFinite, kDuplicateId,
   // kCapacityExceeded, kInvalidArgument, kEmptyInput for a frame without
@@ -70,26 +76,35 @@ class Eskf {
   // update: the update is skipped (report->update_skipped), the prediction
   // and bookkeeping still apply, and kNotPositiveDefinite is returned (see
   // src/core/eskf.cpp).
-  Status processFrame(const StereoFrame& frame, IterationReport* report = nullptr);
+  Status processFrame(const StereoFrame& frame, IterationReport* report = nullptr) override;
 
   // The left camera: pose in the world, camera-frame velocities.
-  PoseState pose() const { return model_->camera(state_); }
+  PoseState pose() const override { return model_->camera(state_); }
   // Its covariance in the camera-state layout [dp, dtheta, dv, dw] (12 x 12),
   // mapped from the state's (MotionModel::cameraStateJacobian).
-  Mat12 cameraCovariance() const;
+  Mat12 cameraCovariance() const override;
+  Mat6 cameraPoseCovariance() const override { return cameraCovariance().topLeftCorner<6, 6>(); }
   // The pose block of the state covariance (P x P).
   PoseMat poseCovariance() const;
   const NominalState& state() const { return state_; }
   const MotionModel& motionModel() const { return *model_; }
   bool awaitingAlignment() const { return awaiting_alignment_; }
-  double time() const { return time_; }
-  int numLandmarks() const { return static_cast<int>(ids_.size()); }
-  std::vector<LandmarkInfo> landmarks() const;  // with marginal covariances
-  const std::vector<Vec3>& landmarkPositions() const { return positions_; }
-  const std::vector<uint64_t>& landmarkIds() const { return ids_; }
+  double time() const override { return time_; }
+  int numLandmarks() const override { return book_.size(); }
+  std::vector<LandmarkInfo> landmarks() const override;  // with marginal covariances
+  const std::vector<Vec3>& landmarkPositions() const { return book_.positions(); }
+  const std::vector<uint64_t>& landmarkIds() const { return book_.ids(); }
   const EskfSettings& settings() const { return settings_; }
   const CovarianceBackend& backend() const { return *backend_; }
   CovarianceBackend& mutableBackend() { return *backend_; }  // tests and benchmark
+
+  // SlamBackend: the algorithm is the settings' backend_algorithm (eskf, or
+  // seif with the information storage), the storage the backend's name.
+  const char* name() const override { return toString(settings_.backend_algorithm); }
+  std::string storage() const override { return backend_ ? backend_->name() : "none"; }
+  std::size_t memoryBytes() const override { return backend_ ? backend_->memoryBytes() : 0; }
+  bool supportsImu() const override { return model_->usesImu(); }
+  bool poseBlockState(PoseBlockState* out) const override;
 
  private:
   // Internal steps, exposed to tests through the public API only.
@@ -115,17 +130,8 @@ class Eskf {
   bool awaiting_alignment_ = false;
   std::vector<ImuSample> alignment_samples_;
   SceneMotionMonitor scene_motion_;
-  // Relocalisation (EskfSettings::relocalise_gap): stamp of the last processed
-  // frame, and whether an outage was seen and no map fit has moved the pose yet.
-  double last_frame_stamp_ = 0.0, outage_stamp_ = 0.0;
-  bool relocalise_pending_ = false;
-  uint64_t next_id_ = 1;
-  // Per slot, same order as the backend's slots.
-  std::vector<uint64_t> ids_;
-  std::vector<Vec3> positions_;
-  std::vector<std::array<uint8_t, 3>> colours_;
-  std::vector<int> times_observed_;
-  std::vector<double> last_seen_;
+  Relocaliser relocaliser_;
+  LandmarkBook book_;  // per slot, same order as the backend's slots
 };
 
 }  // namespace hapi_eskf

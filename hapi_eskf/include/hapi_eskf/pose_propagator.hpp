@@ -18,7 +18,7 @@
 // covariance (checked in test/test_pose_propagator.cpp).
 #pragma once
 
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/slam_backend.hpp"
 #include "hapi_eskf/motion_model.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
@@ -31,8 +31,10 @@ class PosePropagator {
  public:
   explicit PosePropagator(const EskfSettings& settings) : settings_(settings) {}
 
-  // Start from the filter's state (after a processed frame).
-  void rebase(const Eskf& filter);
+  // Start from the back end's pose-block state (after a processed frame);
+  // a back end without one (SlamBackend::poseBlockState) leaves the copy
+  // invalid.
+  void rebase(const SlamBackend& filter);
   // Forget the state (filter reset): step() fails until the next rebase().
   void invalidate() { model_.reset(); }
   bool valid() const { return model_ != nullptr; }

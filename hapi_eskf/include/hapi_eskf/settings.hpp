@@ -6,12 +6,15 @@
 #pragma once
 
 #include "hapi_eskf/field_table.hpp"
+#include "hapi_eskf/graph/robust_loss.hpp"
 
 #include <string>
 #include <type_traits>
 
 namespace hapi_eskf {
 
+// The SLAM algorithm behind the back-end interface (slam_backend.hpp).
+enum class BackendAlgorithm { kEskf, kSeif, kGraph, kFastSlam2 };
 enum class BackendKind { kCpu, kCuda };
 enum class Precision { kFp64, kFp32 };  // storage/compute precision of C (CUDA backend)
 // CUDA backend variants (src/cuda/blas_traits.hpp): kAuto chooses by size.
@@ -20,6 +23,13 @@ enum class CudaSolve { kAuto, kTrsm, kInverse };
 // The motion model of the pose block (motion_model.hpp).
 enum class MotionModelKind { kConstantVelocity, kGyro, kInertial };
 
+template <>
+struct EnumNames<BackendAlgorithm> {
+  static constexpr EnumName<BackendAlgorithm> kNames[] = {{BackendAlgorithm::kEskf, "eskf"},
+                                                          {BackendAlgorithm::kSeif, "seif"},
+                                                          {BackendAlgorithm::kGraph, "graph"},
+                                                          {BackendAlgorithm::kFastSlam2, "fastslam2"}};
+};
 template <>
 struct EnumNames<BackendKind> {
   static constexpr EnumName<BackendKind> kNames[] = {{BackendKind::kCpu, "cpu"}, {BackendKind::kCuda, "cuda"}};
@@ -82,6 +92,7 @@ void forEachField(Settings& s, Visitor&& visit) {
 // unparsable value); the range is checked by validate(), not here.
 std::string setFieldFromText(EskfSettings* s, const std::string& name, const std::string& value);
 
+const char* toString(BackendAlgorithm a);
 const char* toString(BackendKind b);
 const char* toString(Precision p);
 const char* toString(MotionModelKind m);

@@ -162,10 +162,10 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
 }
 
 Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& camera_jacobian,
-                 const std::vector<Vec3>& positions, const CovarianceBackend& backend, const EskfSettings& settings,
+                 const std::vector<Vec3>& positions, const AssociationSource& source, const EskfSettings& settings,
                  Association* out) {
   const int n = static_cast<int>(frame.measurements.size());
-  const int K = backend.numLandmarks();
+  const int K = source.numLandmarks();
   if (!out || static_cast<int>(positions.size()) != K) return Status::kInvalidArgument;
   Association a;
   a.slot.assign(n, -1);
@@ -178,7 +178,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
 
   // 1. Descriptors: best and second best over the whole pool.
   std::vector<DescriptorMatch> matches;
-  Status st = backend.matchDescriptors(frame.descriptors.data(), n, &matches);
+  Status st = source.matchDescriptors(frame.descriptors.data(), n, &matches);
   if (st != Status::kOk) return st;
   std::vector<int> cand_meas, cand_slot;
   for (int i = 0; i < n; ++i) {
@@ -201,7 +201,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
   }
 
   std::vector<Mat9> M;
-  st = backend.marginals(cand_slot, &M);
+  st = source.marginals(cand_slot, &M);
   if (st != Status::kOk) return st;
 
   // 2. Geometric consistency (RANSAC rigid fit), see EskfSettings::ransac_iterations.

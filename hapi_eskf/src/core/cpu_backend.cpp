@@ -7,6 +7,7 @@
 // failures found while computing are returned before C is touched, so an
 // error return leaves the state bit-for-bit unchanged.
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/descriptor_pool.hpp"
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/removal_plan.hpp"
 
@@ -21,8 +22,6 @@ namespace {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-int popcount64(uint64_t x) { return __builtin_popcountll(x); }
 
 class CpuBackend final : public CovarianceBackend {
  public:
@@ -193,31 +192,7 @@ class CpuBackend final : public CovarianceBackend {
   }
 
   Status doMatchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const override {
-    const int words = desc_len_ / 8, tail = desc_len_ % 8;
-    for (int q = 0; q < n_query; ++q) {
-      const uint8_t* a = queries + static_cast<std::size_t>(q) * desc_len_;
-      DescriptorMatch& M = (*out)[q];
-      for (int k = 0; k < K_; ++k) {
-        const uint8_t* b = &desc_[static_cast<std::size_t>(k) * desc_len_];
-        int d = 0;
-        for (int w = 0; w < words; ++w) {
-          uint64_t x, y;
-          std::memcpy(&x, a + 8 * w, 8);
-          std::memcpy(&y, b + 8 * w, 8);
-          d += popcount64(x ^ y);
-        }
-        for (int t = 0; t < tail; ++t) d += popcount64(static_cast<uint64_t>(a[8 * words + t] ^ b[8 * words + t]));
-        if (d < M.best_distance) {
-          M.second_distance = M.best_distance;
-          M.second_slot = M.best_slot;
-          M.best_distance = d;
-          M.best_slot = k;
-        } else if (d < M.second_distance) {
-          M.second_distance = d;
-          M.second_slot = k;
-        }
-      }
-    }
+    matchHamming(queries, n_query, desc_.data(), K_, desc_len_, out);
     return Status::kOk;
   }
 

@@ -5,16 +5,8 @@
 //  * An empty frame returns kEmptyInput and does nothing (not even predict):
 //    every non-kOk return leaves the state unchanged, and nothing is lost
 //    because the next frame predicts over the whole interval.
-//  * Measurements used in the update: at most max_update_landmarks, the ones
-//    with the strongest detector response. Response is independent of the
-//    measurement noise, so this choice does not bias the update the way
-//    "smallest innovation first" would.
-//  * Pool full: the least recently seen landmarks (ties: fewest observations,
-//    then oldest id) that are not used in this frame's update are removed so
-//    that min(#candidates, ceil(full_pool_add_fraction * max_new_landmarks))
-//    new landmarks fit; new landmarks are the strongest unassociated
-//    measurements. A frame that finds the pool empty (start, reset) may add up
-//    to bootstrap_landmarks instead (settings.hpp).
+//  * Which measurements update, which are added, which landmarks go when the
+//    pool is full: the shared bookkeeping policy (landmark_book.hpp).
 //  * The one error detected after state changes: a joint S that is not PD (or
 //    a non-finite correction) in the update. The update is then skipped
 //    (report.update_skipped), the prediction and the bookkeeping of this frame
@@ -29,12 +21,11 @@
 #include "hapi_eskf/inertial_alignment.hpp"
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/so3.hpp"
-#include "hapi_eskf/removal_plan.hpp"
+#include "hapi_eskf/stereo_frame_check.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <unordered_set>
 
 namespace hapi_eskf {
@@ -52,7 +43,8 @@ Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> back
     : settings_(settings),
       backend_(std::move(backend)),
       model_(makeMotionModel(settings, extrinsic)),
-      scene_motion_(settings) {
+      scene_motion_(settings),
+      relocaliser_(settings) {
   // Construction never throws; a mismatch is reported by reset()/processFrame().
   if (backend_ && settings_.validate().empty() && backend_->capacity() == settings_.max_landmarks &&
       backend_->poseDim() == model_->poseDim())
@@ -75,17 +67,12 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   camera.q.normalize();
   state_ = model_->fromCamera(camera);
   time_ = stamp;
-  last_frame_stamp_ = stamp;
-  relocalise_pending_ = false;
+  relocaliser_.reset(stamp);
   awaiting_alignment_ = model_->kind() == MotionModelKind::kInertial;
   alignment_samples_.clear();
   scene_motion_.reset();
   initialised_ = true;
-  ids_.clear();
-  positions_.clear();
-  colours_.clear();
-  times_observed_.clear();
-  last_seen_.clear();
+  book_.clear();
   return Status::kOk;
 }
 
@@ -171,7 +158,7 @@ Status Eskf::align() {
   clearPendingPrediction();
   state_ = start.x;
   time_ = alignment_samples_.back().stamp;
-  last_frame_stamp_ = time_;
+  relocaliser_.reset(time_);
   for (const ImuSample& m : alignment_samples_) scene_motion_.addImu(m, state_.b_g);
   alignment_samples_.clear();
   awaiting_alignment_ = false;
@@ -187,38 +174,21 @@ PoseMat Eskf::poseCovariance() const {
 Mat12 Eskf::cameraCovariance() const { return hapi_eskf::cameraCovariance(*model_, state_, poseCovariance()); }
 
 std::vector<LandmarkInfo> Eskf::landmarks() const {
-  std::vector<LandmarkInfo> out(ids_.size());
-  if (!backend_) return out;
-  const std::vector<Mat3> cov = backend_->landmarkCovariances();
-  for (std::size_t k = 0; k < ids_.size(); ++k) {
-    out[k].id = ids_[k];
-    out[k].position = positions_[k];
-    out[k].covariance = k < cov.size() ? cov[k] : Mat3::Zero();
-    out[k].rgb = colours_[k];
-    out[k].times_observed = times_observed_[k];
-    out[k].last_seen = last_seen_[k];
-  }
-  return out;
+  if (!backend_) return book_.info({});
+  return book_.info(backend_->landmarkCovariances());
+}
+
+bool Eskf::poseBlockState(PoseBlockState* out) const {
+  if (!out || !backend_ || !initialised_) return false;
+  out->extrinsic = model_->extrinsic();
+  out->x = state_;
+  out->C = poseCovariance();
+  out->time = time_;
+  return true;
 }
 
 Status Eskf::checkFrame(const StereoFrame& frame) const {
-  if (!std::isfinite(frame.stamp)) return Status::kNonFinite;
-  if (frame.stamp < time_) return Status::kInvalidArgument;
-  const int n = static_cast<int>(frame.measurements.size());
-  if (n == 0) return Status::kEmptyInput;
-  if (n > settings_.max_frame_measurements) return Status::kCapacityExceeded;
-  if (frame.descriptor_length != backend_->descriptorLength()) return Status::kInvalidArgument;
-  if (frame.descriptors.size() != static_cast<std::size_t>(n) * static_cast<std::size_t>(frame.descriptor_length))
-    return Status::kInvalidArgument;
-  std::unordered_set<uint32_t> seen;
-  seen.reserve(2 * n);
-  for (const auto& m : frame.measurements) {
-    if (!m.z.allFinite() || !m.Cz.allFinite() || !std::isfinite(m.response)) return Status::kNonFinite;
-    if (!seen.insert(m.frontend_id).second) return Status::kDuplicateId;
-  }
-  for (const auto& m : frame.measurements)
-    if (!isSymmetricPositiveDefinite(m.Cz)) return Status::kNotPositiveDefinite;
-  return Status::kOk;
+  return checkStereoFrame(frame, time_, backend_->descriptorLength(), settings_.max_frame_measurements);
 }
 
 Mat3 Eskf::redetectionCovariance(const Vec3& z) const {
@@ -242,7 +212,6 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // Everything that can be wrong with the input is found here, before any change.
   Status st = checkFrame(frame_in);
   if (st != Status::kOk) return finish(st);
-  const int n = rep.n_measurements;
   // Measurement model: C_z of the stereo pair plus the keypoint's re-detection
   // noise across frames (settings.hpp, measurement_angular_sigma), used for
   // gating, the update and new landmarks alike.
@@ -257,35 +226,26 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // After an outage longer than relocalise_gap the last velocity says nothing
   // about the motion since: predict from rest (settings.hpp).
   const NominalState state_before = state_;
-  const bool outage = settings_.relocalise_gap > 0.0 && frame.stamp - last_frame_stamp_ > settings_.relocalise_gap;
-  const bool pending_before = relocalise_pending_;
-  const double outage_before = outage_stamp_;
-  if (outage) {
-    model_->stop(&state_);
-    relocalise_pending_ = settings_.ransac_iterations > 0;
-    outage_stamp_ = frame.stamp;
-  }
+  if (relocaliser_.beginFrame(frame.stamp)) model_->stop(&state_);
   auto t0 = Clock::now();
   st = predictStepTo(frame.stamp, nullptr);
   if (st == Status::kOk) st = flushPrediction();
   rep.t_predict_ms = msSince(t0);
   if (st != Status::kOk) {
     state_ = state_before;  // a rejected frame changes nothing
-    relocalise_pending_ = pending_before;
-    outage_stamp_ = outage_before;
+    relocaliser_.rollback();
     return finish(st);
   }
-  const double previous_frame_stamp = last_frame_stamp_;
-  last_frame_stamp_ = frame.stamp;
+  const double previous_frame_stamp = relocaliser_.acceptFrame(frame.stamp);
 
   // --- association ---
   t0 = Clock::now();
   Association assoc;
-  st = associate(frame, pose(), model_->cameraJacobian(state_), positions_, *backend_, settings_, &assoc);
+  st = associate(frame, pose(), model_->cameraJacobian(state_), book_.positions(), *backend_, settings_, &assoc);
   const bool have_fit = st == Status::kOk && assoc.fit_inliers >= kRelocaliseMinInliers;
   // IMU and vision agreement (models with IMU; scene_motion_monitor.hpp).
   bool vision_leads = false;
-  if (have_fit && model_->usesImu() && !relocalise_pending_) {
+  if (have_fit && model_->usesImu() && !relocaliser_.pending()) {
     const SceneMotionVerdict v = scene_motion_.onFrame(assoc.fit_inliers, assoc.n_fit_inliers_gated_out);
     vision_leads = v.disagreed;
     rep.vision_led = v.disagreed;
@@ -302,46 +262,34 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
       if (st != Status::kOk) return finish(st);
     }
   }
-  if (have_fit && (relocalise_pending_ || vision_leads)) {
+  if (have_fit && (relocaliser_.pending() || vision_leads)) {
     // The map fit becomes the linearisation point (means only), then gate
     // again around it. After an outage the velocity was set to rest; when
     // vision leads, the velocity mean takes the displacement the prediction
     // missed over this frame interval, so the next prediction starts from a
     // velocity vision supports (left alone, a wrong velocity makes every
     // following frame disagree again).
-    if (vision_leads && !relocalise_pending_ && frame.stamp > previous_frame_stamp)
+    if (vision_leads && !relocaliser_.pending() && frame.stamp > previous_frame_stamp)
       model_->correctVelocity(&state_, assoc.fit_t - pose().p, frame.stamp - previous_frame_stamp);
     model_->moveCameraTo(&state_, assoc.fit_t, Eigen::Quaterniond(assoc.fit_R).normalized());
-    rep.relocalised = relocalise_pending_;
-    relocalise_pending_ = false;
-    st = associate(frame, pose(), model_->cameraJacobian(state_), positions_, *backend_, settings_, &assoc);
+    rep.relocalised = relocaliser_.fitApplied();
+    st = associate(frame, pose(), model_->cameraJacobian(state_), book_.positions(), *backend_, settings_, &assoc);
   }
   rep.t_association_ms = msSince(t0);
   if (st != Status::kOk) return finish(st);
   rep.n_candidates = assoc.n_candidates;
   rep.n_gated_out = assoc.n_gated_out;
-  if (relocalise_pending_) {
-    if (frame.stamp - outage_stamp_ <= kRelocaliseWaitS) {
-      rep.relocalising = true;  // settings.hpp kRelocaliseWaitS: wait for a frame the map supports
-      return finish(Status::kOk);
-    }
-    relocalise_pending_ = false;  // give up: carry on from the prediction
+  if (relocaliser_.holdFrame(frame.stamp)) {
+    rep.relocalising = true;  // settings.hpp kRelocaliseWaitS: wait for a frame the map supports
+    return finish(Status::kOk);
   }
 
-  // Strongest response first (stable: ties keep frame order).
-  std::vector<int> by_response(n);
-  std::iota(by_response.begin(), by_response.end(), 0);
-  std::stable_sort(by_response.begin(), by_response.end(), [&](int a, int b) {
-    return frame.measurements[a].response > frame.measurements[b].response;
-  });
+  const std::vector<int> by_response = LandmarkBook::byResponse(frame);
 
   // --- update ---
   t0 = Clock::now();
   Status result = Status::kOk;
-  std::vector<int> used_meas;
-  for (int i : by_response)
-    if (assoc.slot[i] >= 0 && static_cast<int>(used_meas.size()) < settings_.max_update_landmarks)
-      used_meas.push_back(i);
+  const std::vector<int> used_meas = LandmarkBook::chooseUpdates(assoc, by_response, settings_);
   std::vector<char> used_slot(numLandmarks(), 0);
   if (!used_meas.empty()) {
     const PoseState camera = pose();
@@ -352,10 +300,10 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
       MeasurementBlock& b = blocks[j];
       b.slot = k;
       Mat36 H_camera;
-      measurementJacobian(camera, positions_[k], &H_camera, &b.H_landmark);
+      measurementJacobian(camera, book_.positions()[k], &H_camera, &b.H_landmark);
       b.H_pose = H_camera * J;
       b.R = frame.measurements[i].Cz;
-      b.innovation = frame.measurements[i].z - measure(camera, positions_[k]);
+      b.innovation = frame.measurements[i].z - measure(camera, book_.positions()[k]);
     }
     Eigen::VectorXd dx;
     double nis = 0.0;
@@ -363,13 +311,11 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     if (st == Status::kOk) {
       const int P = model_->poseDim();
       model_->inject(&state_, dx.head(P));
-      for (int k = 0; k < numLandmarks(); ++k) positions_[k] += dx.segment<3>(landmarkRow(k, P));
-      for (std::size_t j = 0; j < used_meas.size(); ++j) {
-        const int k = assoc.slot[used_meas[j]];
+      book_.correct(dx, P);
+      for (int i : used_meas) {
+        const int k = assoc.slot[i];
         used_slot[k] = 1;
-        ++times_observed_[k];
-        last_seen_[k] = frame.stamp;
-        colours_[k] = frame.measurements[used_meas[j]].rgb;
+        book_.observe(k, frame.stamp, frame.measurements[i].rgb);
       }
       rep.n_updated = static_cast<int>(used_meas.size());
       rep.mean_nis = nis / rep.n_updated;
@@ -387,48 +333,19 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
 
   // --- removal ---
   t0 = Clock::now();
-  std::vector<int> add_meas;
-  const int max_add = numLandmarks() == 0 && settings_.bootstrap_landmarks > 0 ? settings_.bootstrap_landmarks
-                                                                               : settings_.max_new_landmarks;
-  for (int i : by_response)
-    if (assoc.may_add[i] && static_cast<int>(add_meas.size()) < max_add) add_meas.push_back(i);
-  const int K = numLandmarks();
-  const int free_slots = settings_.max_landmarks - K;
-  int n_add = std::min<int>(static_cast<int>(add_meas.size()), free_slots);
-  if (static_cast<int>(add_meas.size()) > free_slots) {
-    const int target = std::min<int>(
-        static_cast<int>(add_meas.size()),
-        static_cast<int>(std::ceil(settings_.full_pool_add_fraction * settings_.max_new_landmarks - 1e-9)));
-    int n_evict = std::max(0, target - free_slots);
-    std::vector<int> evictable;
-    for (int k = 0; k < K; ++k)
-      if (!used_slot[k]) evictable.push_back(k);
-    n_evict = std::min<int>(n_evict, static_cast<int>(evictable.size()));
-    if (n_evict > 0) {
-      std::partial_sort(evictable.begin(), evictable.begin() + n_evict, evictable.end(), [&](int a, int b) {
-        if (last_seen_[a] != last_seen_[b]) return last_seen_[a] < last_seen_[b];
-        if (times_observed_[a] != times_observed_[b]) return times_observed_[a] < times_observed_[b];
-        return ids_[a] < ids_[b];
-      });
-      std::vector<int> evict(evictable.begin(), evictable.begin() + n_evict);
-      std::sort(evict.begin(), evict.end());
-      st = backend_->removeLandmarks(evict);
-      if (st != Status::kOk) {
-        rep.t_removal_ms = msSince(t0);
-        return finish(st);
-      }
-      // The same slot plan on the host arrays (removal_plan.hpp).
-      const std::vector<SlotMove> moves = tailFillMoves(K, evict);
-      const int K_new = K - n_evict;
-      applyRemoval(moves, K_new, &ids_);
-      applyRemoval(moves, K_new, &positions_);
-      applyRemoval(moves, K_new, &colours_);
-      applyRemoval(moves, K_new, &times_observed_);
-      applyRemoval(moves, K_new, &last_seen_);
-      rep.n_removed = n_evict;
+  const std::vector<int> add_meas = book_.chooseAdditions(assoc, by_response, settings_);
+  const int n_candidates = static_cast<int>(add_meas.size());
+  const std::vector<int> evict = book_.chooseRemovals(n_candidates, used_slot, settings_);
+  if (!evict.empty()) {
+    st = backend_->removeLandmarks(evict);
+    if (st != Status::kOk) {
+      rep.t_removal_ms = msSince(t0);
+      return finish(st);
     }
-    n_add = std::min<int>(static_cast<int>(add_meas.size()), settings_.max_landmarks - numLandmarks());
+    book_.remove(evict);  // the same slot plan on the host (removal_plan.hpp)
+    rep.n_removed = static_cast<int>(evict.size());
   }
+  const int n_add = book_.additionsThatFit(n_candidates, settings_);
   rep.t_removal_ms = msSince(t0);
 
   // --- addition ---
@@ -455,11 +372,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     }
     for (int j = 0; j < n_add; ++j) {
       const StereoMeasurement& m = frame.measurements[add_meas[j]];
-      ids_.push_back(next_id_++);
-      positions_.push_back(initLandmark(camera, m.z));
-      colours_.push_back(m.rgb);
-      times_observed_.push_back(1);
-      last_seen_.push_back(frame.stamp);
+      book_.add(initLandmark(camera, m.z), m.rgb, frame.stamp);
     }
     rep.n_added = n_add;
   }

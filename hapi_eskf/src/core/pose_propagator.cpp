@@ -5,11 +5,16 @@
 
 namespace hapi_eskf {
 
-void PosePropagator::rebase(const Eskf& filter) {
-  model_ = makeMotionModel(settings_, filter.motionModel().extrinsic());
-  x_ = filter.state();
-  C_ = filter.poseCovariance();
-  time_ = filter.time();
+void PosePropagator::rebase(const SlamBackend& filter) {
+  PoseBlockState s;
+  if (!filter.poseBlockState(&s)) {
+    model_.reset();
+    return;
+  }
+  model_ = makeMotionModel(settings_, s.extrinsic);
+  x_ = s.x;
+  C_ = s.C;
+  time_ = s.time;
 }
 
 // The filter's step (motion_model.hpp predictStep), applied to the pose

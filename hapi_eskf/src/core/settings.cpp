@@ -30,6 +30,7 @@ std::string setFieldFromText(EskfSettings* s, const std::string& name, const std
   return err;
 }
 
+const char* toString(BackendAlgorithm a) { return enumToString(a); }
 const char* toString(BackendKind b) { return enumToString(b); }
 const char* toString(Precision p) { return enumToString(p); }
 const char* toString(MotionModelKind m) { return enumToString(m); }

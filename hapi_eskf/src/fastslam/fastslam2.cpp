@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_set>
 
 namespace hapi_eskf {
 namespace fastslam {
@@ -134,6 +135,51 @@ void FastSlam2::resample() {
     out.back().log_weight = -std::log(static_cast<double>(n));
   }
   particles_ = std::move(out);
+}
+
+void FastSlam2::predicted(double stamp, PoseState* pose_out, Mat6* covariance) const {
+  PoseState x = pose();
+  const double dt = std::max(0.0, stamp - time_);
+  x.p += x.q * x.v * dt;  // v, w of pose() are in the camera frame
+  x.q = (x.q * quatExp(x.w * dt)).normalized();
+  *pose_out = x;
+  *covariance = poseCovariance() + processNoise(dt);
+}
+
+void FastSlam2::forget(const std::vector<uint64_t>& ids) {
+  for (const uint64_t id : ids) {
+    const auto it = slot_.find(id);
+    if (it == slot_.end()) continue;
+    const int k = it->second, last = static_cast<int>(ids_.size()) - 1;
+    // Tail fill: the last slot moves into k in every particle and every table.
+    for (Particle& p : particles_) {
+      p.map[k] = p.map[last];
+      p.map.pop_back();
+    }
+    slot_.erase(it);
+    if (k != last) {
+      ids_[k] = ids_[last];
+      rgb_[k] = rgb_[last];
+      times_observed_[k] = times_observed_[last];
+      last_seen_[k] = last_seen_[last];
+      slot_[ids_[k]] = k;
+    }
+    ids_.pop_back();
+    rgb_.pop_back();
+    times_observed_.pop_back();
+    last_seen_.pop_back();
+  }
+}
+
+std::size_t FastSlam2::memoryBytes() const {
+  // Every particle's pointer table, and each shared EKF once.
+  std::size_t bytes = particles_.size() * sizeof(Particle);
+  std::unordered_set<const LandmarkEkf*> ekfs;
+  for (const Particle& p : particles_) {
+    bytes += p.map.capacity() * sizeof(p.map[0]);
+    for (const auto& l : p.map) ekfs.insert(l.get());
+  }
+  return bytes + ekfs.size() * sizeof(LandmarkEkf);
 }
 
 std::vector<double> FastSlam2::weights() const {

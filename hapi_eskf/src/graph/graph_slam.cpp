@@ -70,9 +70,7 @@ Status GraphSlam::processFrame(const AssociatedFrame& frame, GraphFrameReport* r
 
   // Predict with constant velocity (docs/DESIGN.md "Graph SLAM", tracking).
   const double dt = frame.stamp - time_;
-  PoseState predicted = pose_;
-  predicted.p = pose_.p + pose_.v * dt;
-  predicted.q = (pose_.q * quatExp(pose_.w * dt)).normalized();
+  const PoseState predicted = predictPose(frame.stamp);
   Mat6 cov = pose_cov_ + processNoise(dt);
 
   std::vector<TrackedPoint> points;
@@ -144,6 +142,28 @@ Status GraphSlam::processFrame(const AssociatedFrame& frame, GraphFrameReport* r
   if (keyframe && map_.keyframes.size() >= 2) solver_->submit(makeWindowJob());
   if (report) *report = rep;
   return Status::kOk;
+}
+
+PoseState GraphSlam::predictPose(double stamp) const {
+  const double dt = stamp - time_;
+  PoseState x = pose_;
+  x.p = pose_.p + pose_.v * dt;
+  x.q = (pose_.q * quatExp(pose_.w * dt)).normalized();
+  return x;
+}
+
+void GraphSlam::predicted(double stamp, PoseState* pose, Mat6* covariance) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  PoseState x = predictPose(stamp);
+  x.v = x.q.conjugate() * pose_.v;  // types.hpp: v in the camera frame
+  *pose = x;
+  *covariance = pose_cov_ + processNoise(std::max(0.0, stamp - time_));
+}
+
+std::size_t GraphSlam::memoryBytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return map_.keyframes.size() * sizeof(Keyframe) + map_.observations.size() * (sizeof(Observation) + 2 * sizeof(int)) +
+         map_.landmarks.size() * (sizeof(GraphLandmark) + sizeof(uint64_t)) + map_.frames.size() * sizeof(FramePose);
 }
 
 WindowJob GraphSlam::makeWindowJob() const {

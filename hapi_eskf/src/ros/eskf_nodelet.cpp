@@ -87,9 +87,10 @@ void EskfNodelet::onInit() {
                                  ros::TransportHints().tcpNoDelay());
   if (params_.usesImu()) imu_sub_ = nh.subscribe(params_.imu_topic, 400, &EskfNodelet::imuCallback, this);
 
-  NODELET_INFO("EskfNodelet: backend %s/%s, K_max %d, motion model %s, world_frame '%s', camera_frame '%s', "
+  NODELET_INFO("EskfNodelet: algorithm %s, backend %s/%s, K_max %d, motion model %s, world_frame '%s', camera_frame '%s', "
                "base_frame '%s', imu %s",
-               toString(params_.filter.backend), toString(params_.filter.precision), params_.filter.max_landmarks,
+               toString(params_.filter.backend_algorithm), toString(params_.filter.backend),
+               toString(params_.filter.precision), params_.filter.max_landmarks,
                toString(params_.filter.motion_model), params_.world_frame.c_str(),
                camera_frame_.empty() ? "(from first message)" : camera_frame_.c_str(), params_.base_frame.c_str(),
                params_.usesImu() ? params_.imu_topic.c_str() : "off");
@@ -103,9 +104,14 @@ bool EskfNodelet::checkStartup() {
     startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(), "invalid parameters", reader.errors());
     return false;
   }
-  // Fail at start-up, not at the first frame, when the requested backend
+  // Fail at start-up, not at the first frame, when the requested back end
   // cannot run (the descriptor length is only known from the first message).
-  if (params_.filter.backend == BackendKind::kCuda) {
+  std::string not_built;
+  if (!slamBackendBuilt(params_.filter.backend_algorithm, &not_built)) {
+    startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(), "back end not available", {"~" + not_built});
+    return false;
+  }
+  if (params_.filter.backend_algorithm == BackendAlgorithm::kEskf && params_.filter.backend == BackendKind::kCuda) {
     std::string why;
     if (!cudaBackendAvailable(params_.filter.cuda_device, &why)) {
       if (!params_.allow_cpu_fallback) {
@@ -243,21 +249,25 @@ bool EskfNodelet::ensureFilter(const Work& w) {
   if (eskf_) return true;
   if (w.frame.measurements.empty()) return false;  // the descriptor length is not known yet
   std::string err;
-  std::unique_ptr<CovarianceBackend> backend = makeBackend(params_.filter, w.frame.descriptor_length, &err);
-  if (!backend && params_.filter.backend == BackendKind::kCuda && params_.allow_cpu_fallback) {
+  const bool cuda = params_.filter.backend_algorithm == BackendAlgorithm::kEskf &&
+                    params_.filter.backend == BackendKind::kCuda;
+  std::unique_ptr<SlamBackend> backend =
+      makeSlamBackend(params_.filter, w.frame.descriptor_length, CameraExtrinsic(), &err);
+  if (!backend && cuda && params_.allow_cpu_fallback) {
     NODELET_WARN("*** CUDA backend could not be created (%s): FALLING BACK TO THE CPU BACKEND ***", err.c_str());
     params_.filter.backend = BackendKind::kCpu;
-    backend = makeBackend(params_.filter, w.frame.descriptor_length, &err);
+    backend = makeSlamBackend(params_.filter, w.frame.descriptor_length, CameraExtrinsic(), &err);
   }
   if (!backend) {
     ++stats_->counters.filter_errors;
-    NODELET_ERROR_THROTTLE(5.0, "cannot create the %s backend: %s", toString(params_.filter.backend), err.c_str());
+    NODELET_ERROR_THROTTLE(5.0, "cannot create the %s back end (%s): %s", toString(params_.filter.backend_algorithm),
+                           toString(params_.filter.backend), err.c_str());
     return false;
   }
-  eskf_ = std::make_unique<Eskf>(params_.filter, std::move(backend));
-  stats_->recordBackend(eskf_->backend().name(), eskf_->backend().memoryBytes());
-  NODELET_INFO("filter created: backend %s, %.1f MiB, descriptor length %d", eskf_->backend().name(),
-               eskf_->backend().memoryBytes() / ros_glue::kBytesPerMiB, w.frame.descriptor_length);
+  eskf_ = std::move(backend);
+  stats_->recordBackend(eskf_->storage(), eskf_->memoryBytes());
+  NODELET_INFO("filter created: algorithm %s, storage %s, %.1f MiB, descriptor length %d", eskf_->name(),
+               eskf_->storage().c_str(), eskf_->memoryBytes() / ros_glue::kBytesPerMiB, w.frame.descriptor_length);
   return true;
 }
 
@@ -368,7 +378,7 @@ bool EskfNodelet::process(Work& w) {
     ++count.update_skips;
     NODELET_WARN_THROTTLE(1.0, "update skipped at %.3f (innovation covariance not PD): prediction only", stamp);
   }
-  stats_->recordFrame(rep, eskf_->numLandmarks(), eskf_->backend().memoryBytes());
+  stats_->recordFrame(rep, eskf_->numLandmarks(), eskf_->memoryBytes());
   last_stamp_ = w.stamp;
   const ros_glue::CameraInMap T_map_cam =
       output_->publishFrame(w.stamp, w.frame_id, *eskf_);

@@ -37,7 +37,7 @@ Eigen::Isometry3d OutputPublisher::mapFromWorld() const {
 }
 
 CameraInMap OutputPublisher::publishFrame(const ros::Time& stamp, const std::string& camera_frame,
-                                          const Eskf& filter) {
+                                          const SlamBackend& filter) {
   std::lock_guard<std::mutex> lk(mu_);
   camera_frame_ = camera_frame;
   const PoseState pose = filter.pose();

@@ -10,6 +10,7 @@
 // not depend on the thread count.
 #pragma once
 
+#include "hapi_eskf/associated_core.hpp"
 #include "hapi_eskf/associated_frame.hpp"
 #include "hapi_eskf/fastslam/fastslam_settings.hpp"
 #include "hapi_eskf/fastslam/particle.hpp"
@@ -30,18 +31,24 @@ struct FastSlamReport {
   bool resampled = false;
 };
 
-class FastSlam2 {
+class FastSlam2 final : public AssociatedCore {
  public:
   explicit FastSlam2(const FastSlamSettings& settings);
 
   // Every particle at `initial` (exact: it defines the world; its v and w
   // start the constant-velocity prior), no landmarks.
-  Status reset(const PoseState& initial, double stamp);
+  Status reset(const PoseState& initial, double stamp) override;
   Status processFrame(const AssociatedFrame& frame, FastSlamReport* report = nullptr);
+  Status processAssociated(const AssociatedFrame& frame) override { return processFrame(frame); }
+  // The mean pose moved by the mean velocity; the spread plus the process noise.
+  void predicted(double stamp, PoseState* pose, Mat6* covariance) const override;
 
-  PoseState pose() const;       // weighted mean (rotation: the weighted Karcher mean)
-  Mat6 poseCovariance() const;  // weighted spread, [dp world, dtheta local] about the mean
-  std::vector<LandmarkInfo> landmarks() const;  // weighted mixture mean and covariance
+  PoseState pose() const override;       // weighted mean (rotation: the weighted Karcher mean)
+  Mat6 poseCovariance() const override;  // weighted spread, [dp world, dtheta local] about the mean
+  std::vector<LandmarkInfo> landmarks() const override;  // weighted mixture mean and covariance
+  // Drops the landmarks from every particle (their slots are refilled from the tail).
+  void forget(const std::vector<uint64_t>& ids) override;
+  std::size_t memoryBytes() const override;
   bool hasLandmark(uint64_t id) const { return slot_.count(id) > 0; }
   int numLandmarks() const { return static_cast<int>(ids_.size()); }
   const std::vector<Particle>& particles() const { return particles_; }

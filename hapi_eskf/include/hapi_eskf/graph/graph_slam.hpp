@@ -11,6 +11,7 @@
 // processFrame() holds it for the frame's own work only (never for a solve).
 #pragma once
 
+#include "hapi_eskf/associated_core.hpp"
 #include "hapi_eskf/associated_frame.hpp"
 #include "hapi_eskf/graph/graph_map.hpp"
 #include "hapi_eskf/graph/graph_settings.hpp"
@@ -32,21 +33,27 @@ struct GraphFrameReport {
   bool window_applied = false;  // a background solution was merged before this frame
 };
 
-class GraphSlam {
+class GraphSlam final : public AssociatedCore {
  public:
   // Settings are checked by reset(); until a reset succeeds every frame is
   // kNotInitialised.
   explicit GraphSlam(const GraphSettings& settings);
-  ~GraphSlam();
+  ~GraphSlam() override;
 
   // Empty graph, camera at `initial` (exact: it defines the world) at
   // `stamp`; its v and w (camera frame) start the constant-velocity prediction.
-  Status reset(const PoseState& initial, double stamp);
+  Status reset(const PoseState& initial, double stamp) override;
   Status processFrame(const AssociatedFrame& frame, GraphFrameReport* report = nullptr);
+  Status processAssociated(const AssociatedFrame& frame) override { return processFrame(frame); }
+  void predicted(double stamp, PoseState* pose, Mat6* covariance) const override;
 
-  PoseState pose() const;
-  Mat6 poseCovariance() const;  // [dp world, dtheta local]
-  std::vector<LandmarkInfo> landmarks() const;
+  PoseState pose() const override;
+  Mat6 poseCovariance() const override;  // [dp world, dtheta local]
+  // Every landmark of the graph (also those the pool forgot).
+  std::vector<LandmarkInfo> landmarks() const override;
+  // The graph keeps forgotten landmarks: the batch refinement uses them.
+  void forget(const std::vector<uint64_t>& /*ids*/) override {}
+  std::size_t memoryBytes() const override;
   bool hasLandmark(uint64_t id) const;
   int numKeyframes() const;
   // A copy of the whole graph (the batch refinement works on it while the
@@ -61,6 +68,7 @@ class GraphSlam {
   void applyWindowResult(const WindowResult& r);  // mutex_ held
   WindowJob makeWindowJob() const;                // mutex_ held
   Mat6 processNoise(double dt) const;
+  PoseState predictPose(double stamp) const;  // mutex_ held
 
   const GraphSettings settings_;
   mutable std::mutex mutex_;

@@ -1,4 +1,5 @@
-// hapi_eskf/EskfNodelet: thin ROS wrapper of hapi_eskf::Eskf. It wires the
+// hapi_eskf/EskfNodelet: thin ROS wrapper of a hapi_eskf::SlamBackend (the
+// ES-EKF or another algorithm, ~backend_algorithm: slam_backend.hpp). It wires the
 // node (parameters, topics, services, timers) and runs the worker that owns
 // the filter; the outputs and bookkeeping are separate objects, each with its
 // own lock:
@@ -9,14 +10,14 @@
 //   NodeletStatistics  counters, stage timings, /diagnostics (statistics.hpp)
 //
 // Start-up: ~ parameters are read and checked once (params.hpp); an invalid
-// one, or ~backend=cuda without a usable device while ~allow_cpu_fallback is
-// false, is a start-up failure: the nodelet stays loaded but inert, with
+// one, a ~backend_algorithm not built into the library, or ~backend=cuda
+// without a usable device while ~allow_cpu_fallback is false, is a start-up failure: the nodelet stays loaded but inert, with
 // FATAL lines and an ERROR "filter" status on /diagnostics
 // (hapi_nodelet_kit/startup_failure.hpp, the policy of every HAPI nodelet).
 //
 // Threads: ROS callbacks only validate and convert (O(N), no filter access);
 // they post the frame into a newest-wins hapi_nodelet_kit::Mailbox. One
-// worker thread owns the filter (all Eskf calls, so GPU work never blocks a
+// worker thread owns the filter (all back-end calls, so GPU work never blocks a
 // callback), publishes odom/pose/path/TF per frame and refreshes the map
 // snapshot that a wall timer publishes at ~map_publish_rate. With ~use_imu
 // the IMU callback publishes odom/pose/TF once per gyro sample from a
@@ -31,7 +32,8 @@
 // fresh filter.
 #pragma once
 
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/slam_backend.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"
 #include "hapi_eskf/ros/map_publisher.hpp"
 #include "hapi_eskf/ros/output_publisher.hpp"
@@ -120,7 +122,7 @@ class EskfNodelet : public nodelet::Nodelet {
   std::atomic<bool> stop_{false};
 
   // Worker-owned filter state.
-  std::unique_ptr<Eskf> eskf_;
+  std::unique_ptr<SlamBackend> eskf_;
   bool need_init_ = true;
   bool extrinsic_applied_ = false;  // the camera-IMU extrinsic from TF is in the filter
   ros::Time last_stamp_;

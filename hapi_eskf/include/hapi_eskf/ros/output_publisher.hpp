@@ -43,7 +43,7 @@ class OutputPublisher {
   // After a processed frame: publishes its pose (unless the IMU-rate output
   // is already past it), re-bases the IMU-rate copy and catches up with the
   // samples already received. Returns T_map_cam of the frame (for the path).
-  CameraInMap publishFrame(const ros::Time& stamp, const std::string& camera_frame, const Eskf& filter);
+  CameraInMap publishFrame(const ros::Time& stamp, const std::string& camera_frame, const SlamBackend& filter);
   // Filter reset: the new timeline may start earlier; the copy is void.
   void restart();
 
