@@ -16,6 +16,7 @@ HAPI_DEBIAN_PACKAGES=(
   python3-matplotlib  # tools/eval plots (PNG)
   libopenblas-dev  # hapi_eskf CPU backend: rank update and factorisations on OpenBLAS/LAPACK (cpu_linear_algebra.cpp)
   libmrpt-dev  # hapi_eskf_mrpt_bench: MRPT's EKF update side by side with the CPU backend (bench only, optional)
+  libceres-dev  # hapi_eskf Graph SLAM and graph_refine (src/graph; skipped without it)
   iproute2 iptables iputils-ping procps
   # system: evaluator/ground-truth nodes (Python messages), rviz under Xvfb + xwd screenshots
   python3-sensor-msgs python3-nav-msgs rviz xvfb x11-apps x11-utils

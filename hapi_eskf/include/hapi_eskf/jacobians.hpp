@@ -38,6 +38,12 @@ Vec3 measure(const PoseState& x, const Vec3& m);
 // dh/d[dp, dtheta] (3 x 6) and dh/ddm (3 x 3).
 void measurementJacobian(const PoseState& x, const Vec3& m, Mat36* H_pose, Mat3* H_landmark);
 
+// Re-detection covariance of a keypoint across frames, added to the front
+// end's C_z (settings.hpp measurement_angular_sigma): (s |z|)^2 (I - r r^T),
+// r = z / |z|; zero for s <= 0. The ES-EKF and the graph built from its
+// recorded stream use this one term.
+Mat3 redetectionCovariance(const Vec3& z, double angular_sigma);
+
 // m = p + R z: a new landmark from a camera-frame measurement z.
 Vec3 initLandmark(const PoseState& x, const Vec3& z);
 // dm/d[dp, dtheta] (3 x 6) and dm/dz (3 x 3).

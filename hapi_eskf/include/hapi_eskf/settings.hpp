@@ -6,6 +6,7 @@
 #pragma once
 
 #include "hapi_eskf/field_table.hpp"
+#include "hapi_eskf/graph/robust_loss.hpp"
 
 #include <string>
 #include <type_traits>

@@ -21,6 +21,7 @@
 #include "hapi_eskf/inertial_alignment.hpp"
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/so3.hpp"
+#include "hapi_eskf/stereo_frame_check.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -187,30 +188,11 @@ bool Eskf::poseBlockState(PoseBlockState* out) const {
 }
 
 Status Eskf::checkFrame(const StereoFrame& frame) const {
-  if (!std::isfinite(frame.stamp)) return Status::kNonFinite;
-  if (frame.stamp < time_) return Status::kInvalidArgument;
-  const int n = static_cast<int>(frame.measurements.size());
-  if (n == 0) return Status::kEmptyInput;
-  if (n > settings_.max_frame_measurements) return Status::kCapacityExceeded;
-  if (frame.descriptor_length != backend_->descriptorLength()) return Status::kInvalidArgument;
-  if (frame.descriptors.size() != static_cast<std::size_t>(n) * static_cast<std::size_t>(frame.descriptor_length))
-    return Status::kInvalidArgument;
-  std::unordered_set<uint32_t> seen;
-  seen.reserve(2 * n);
-  for (const auto& m : frame.measurements) {
-    if (!m.z.allFinite() || !m.Cz.allFinite() || !std::isfinite(m.response)) return Status::kNonFinite;
-    if (!seen.insert(m.frontend_id).second) return Status::kDuplicateId;
-  }
-  for (const auto& m : frame.measurements)
-    if (!isSymmetricPositiveDefinite(m.Cz)) return Status::kNotPositiveDefinite;
-  return Status::kOk;
+  return checkStereoFrame(frame, time_, backend_->descriptorLength(), settings_.max_frame_measurements);
 }
 
 Mat3 Eskf::redetectionCovariance(const Vec3& z) const {
-  const double s = settings_.measurement_angular_sigma, d2 = z.squaredNorm();
-  if (!(s > 0.0) || !(d2 > 0.0)) return Mat3::Zero();
-  // (s |z|)^2 (I - z z^T / |z|^2) = s^2 (|z|^2 I - z z^T)
-  return s * s * (d2 * Mat3::Identity() - z * z.transpose());
+  return hapi_eskf::redetectionCovariance(z, settings_.measurement_angular_sigma);
 }
 
 Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) {

@@ -87,6 +87,13 @@ void measurementJacobian(const PoseState& x, const Vec3& m, Mat36* H_pose, Mat3*
   *H_landmark = Rt;
 }
 
+Mat3 redetectionCovariance(const Vec3& z, double angular_sigma) {
+  const double s = angular_sigma, d2 = z.squaredNorm();
+  if (!(s > 0.0) || !(d2 > 0.0)) return Mat3::Zero();
+  // (s |z|)^2 (I - z z^T / |z|^2) = s^2 (|z|^2 I - z z^T)
+  return s * s * (d2 * Mat3::Identity() - z * z.transpose());
+}
+
 Vec3 initLandmark(const PoseState& x, const Vec3& z) { return x.p + x.q.toRotationMatrix() * z; }
 
 // m = p + R^ Exp(dth)(z + dz) ~ m^ + dp - R^[z]x dth + R^ dz.

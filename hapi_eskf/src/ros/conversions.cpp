@@ -116,13 +116,6 @@ geometry_msgs::TwistWithCovariance toTwistWithCovariance(const PoseState& pose, 
   return out;
 }
 
-double landmarkSigma(const Mat3& covariance) {
-  const Mat3 S = 0.5 * (covariance + covariance.transpose());
-  if (!S.allFinite()) return std::numeric_limits<double>::quiet_NaN();
-  const Eigen::SelfAdjointEigenSolver<Mat3> es(S, Eigen::EigenvaluesOnly);
-  return std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff()));
-}
-
 std::vector<MapPoint> toMapPoints(const std::vector<LandmarkInfo>& landmarks, const Eigen::Isometry3d& T_map_world) {
   std::vector<MapPoint> out;
   out.reserve(landmarks.size());

@@ -29,6 +29,7 @@ EskfNodelet::~EskfNodelet() {
   reset_srv_.shutdown();
   save_map_srv_.shutdown();
   save_traj_srv_.shutdown();
+  refine_srv_.shutdown();
   stop_ = true;
   mailbox_.close();
   if (map_) map_->close();  // a ~save_map waiting for a snapshot returns
@@ -67,6 +68,8 @@ void EskfNodelet::onInit() {
   reset_srv_ = pnh.advertiseService("reset", &EskfNodelet::resetService, this);
   save_map_srv_ = pnh.advertiseService("save_map", &ros_glue::MapPublisher::save, map_.get());
   save_traj_srv_ = pnh.advertiseService("save_trajectory", &ros_glue::TrajectoryRecorder::save, trajectory_.get());
+  refiner_ = std::make_unique<ros_glue::GraphRefiner>(params_, getName());
+  refine_srv_ = pnh.advertiseService("refine", &ros_glue::GraphRefiner::refine, refiner_.get());
 
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
   updater_->setHardwareID(kHardwareId);
@@ -241,6 +244,7 @@ void EskfNodelet::resetFilter() {
   output_->restart();
   tf_buffer_->clear();  // after a bag loop its data lies in the "future" of the new timeline
   if (eskf_) eskf_->reset(PoseState(), 0.0);  // empties the pool now: the map snapshot below is empty
+  refiner_->clear();
   takeSnapshot();
   NODELET_WARN("filter reset (#%llu): path and map cleared", static_cast<unsigned long long>(resets));
 }
@@ -265,6 +269,7 @@ bool EskfNodelet::ensureFilter(const Work& w) {
     return false;
   }
   eskf_ = std::move(backend);
+  refiner_->attach(eskf_.get());
   stats_->recordBackend(eskf_->storage(), eskf_->memoryBytes());
   NODELET_INFO("filter created: algorithm %s, storage %s, %.1f MiB, descriptor length %d", eskf_->name(),
                eskf_->storage().c_str(), eskf_->memoryBytes() / ros_glue::kBytesPerMiB, w.frame.descriptor_length);
@@ -343,7 +348,7 @@ bool EskfNodelet::process(Work& w) {
     rep.t_total_ms = rep.t_predict_ms = (ros::WallTime::now() - t0).toSec() * 1e3;
     rep.n_landmarks = eskf_->numLandmarks();
   } else {
-    st = eskf_->processFrame(w.frame, &rep);
+    st = refiner_->processFrame(*eskf_, w.frame, &rep);  // recorded for ~refine when the ES-EKF runs
   }
   if (st == Status::kAwaitingImu) {
     // Inertial model: the first alignment_window of IMU samples sets gravity.

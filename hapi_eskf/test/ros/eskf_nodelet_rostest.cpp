@@ -4,7 +4,8 @@
 //     a burst faster than the worker: every frame processed or counted dropped;
 //  2. fuzz: malformed messages interleaved with good ones -> node alive, each
 //     rejection counted in /diagnostics, no output (pose unchanged) for them;
-//  3. ~save_map / ~save_trajectory write valid PLY / TUM files;
+//  3. ~save_map / ~save_trajectory write valid PLY / TUM files; ~refine (the
+//     ES-EKF's recorded run, batch refined) writes a PLY and a TUM file;
 //  4. a stamp jumping backwards (bag loop) resets filter and path;
 //  5. ~reset empties the map.
 #include "synthetic_frames.hpp"
@@ -440,6 +441,37 @@ TEST(EskfNodelet, SaveServicesWritePlyAndTum) {
                 1.0, 1e-6);
   }
   EXPECT_GE(static_cast<std::size_t>(rows), obs->numOdom() * 8 / 10);  // drops allowed, no losses in the file
+}
+
+// ~refine with the ES-EKF live: its recorded run, refined, as PLY + TUM (the
+// formats of ~save_map / ~save_trajectory) in ~output_dir.
+TEST(EskfNodelet, RefineServiceWritesRefinedMapAndTrajectory) {
+  std_srvs::Trigger srv;
+  ASSERT_TRUE(ros::service::waitForService("/eskf/refine", 5000));
+  ASSERT_TRUE(ros::service::call("/eskf/refine", srv));
+  if (srv.response.message.find("not built") != std::string::npos) GTEST_SKIP() << srv.response.message;
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  std::istringstream paths(srv.response.message);
+  std::string ply, tum;
+  ASSERT_TRUE(paths >> ply >> tum) << srv.response.message;
+  std::ifstream p(ply), t(tum);
+  ASSERT_TRUE(p.good()) << ply;
+  ASSERT_TRUE(t.good()) << tum;
+  std::string line;
+  int vertices = -1, rows = 0, poses = 0;
+  while (std::getline(p, line) && line != "end_header")
+    if (line.rfind("element vertex ", 0) == 0) vertices = std::stoi(line.substr(15));
+  while (std::getline(p, line)) {
+    std::istringstream ss(line);
+    double v[7];
+    for (double& x : v) ASSERT_TRUE(ss >> x) << line;
+    EXPECT_GT(v[2], 0.0) << "landmarks lie in front of the first camera";
+    ++rows;
+  }
+  EXPECT_GT(vertices, 20);
+  EXPECT_EQ(rows, vertices);
+  while (std::getline(t, line)) poses += !line.empty() && line[0] != '#';
+  EXPECT_GE(static_cast<std::size_t>(poses), obs->numOdom() * 8 / 10);
 }
 
 TEST(EskfNodelet, TimeJumpBackwardsResetsFilterAndPath) {

@@ -2,6 +2,7 @@
 // handle) so the covariance mapping and the cloud layout are unit-tested.
 #pragma once
 
+#include "hapi_eskf/map_files.hpp"
 #include "hapi_eskf/types.hpp"
 
 #include <geometry_msgs/PoseWithCovariance.h>
@@ -60,19 +61,9 @@ geometry_msgs::PoseWithCovariance toPoseWithCovariance(const PoseState& pose, co
 // w in, so its covariance is C[6:12, 6:12] unchanged ([vx vy vz wx wy wz]).
 geometry_msgs::TwistWithCovariance toTwistWithCovariance(const PoseState& pose, const Mat12& C);
 
-// Scalar uncertainty of a landmark for the map: sqrt of the LARGEST eigenvalue
-// of its 3x3 marginal covariance, i.e. the 1-sigma half-axis of the worst
-// direction of its uncertainty ellipsoid [m] (conservative: a point is never
-// shown as better known than its weakest direction).
-double landmarkSigma(const Mat3& covariance);
-
-// One map point as published and exported.
-struct MapPoint {
-  Vec3 position = Vec3::Zero();  // in the published world frame [m]
-  std::array<uint8_t, 3> rgb{{0, 0, 0}};
-  float sigma = 0.f;             // landmarkSigma [m]
-  uint32_t id = 0;               // landmark id (lower 32 bits)
-};
+// The map point and its sigma are the core's (map_files.hpp).
+using hapi_eskf::landmarkSigma;
+using hapi_eskf::MapPoint;
 std::vector<MapPoint> toMapPoints(const std::vector<LandmarkInfo>& landmarks, const Eigen::Isometry3d& T_map_world);
 
 // sensor_msgs/PointCloud2 with fields x y z rgb sigma (FLOAT32; rgb packed

@@ -6,6 +6,7 @@
 //   OutputPublisher    ~odom, ~pose, TF, the IMU-rate output (output_publisher.hpp)
 //   TrajectoryRecorder ~path, ~save_trajectory (trajectory_recorder.hpp)
 //   MapPublisher       map snapshots, ~map, ~save_map (map_publisher.hpp)
+//   GraphRefiner       ~refine: batch refinement of the run (graph_refiner.hpp)
 //   ImuInput           ~use_imu: sample checks, mounting rotation, buffer (imu_input.hpp)
 //   NodeletStatistics  counters, stage timings, /diagnostics (statistics.hpp)
 //
@@ -34,6 +35,7 @@
 
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/slam_backend.hpp"
+#include "hapi_eskf/ros/graph_refiner.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"
 #include "hapi_eskf/ros/map_publisher.hpp"
 #include "hapi_eskf/ros/output_publisher.hpp"
@@ -107,6 +109,7 @@ class EskfNodelet : public nodelet::Nodelet {
   std::unique_ptr<ros_glue::OutputPublisher> output_;
   std::unique_ptr<ros_glue::TrajectoryRecorder> trajectory_;
   std::unique_ptr<ros_glue::MapPublisher> map_;
+  std::unique_ptr<ros_glue::GraphRefiner> refiner_;  // ~refine
 
   // Landmarks callback state (and ~reset's stamp guard clear): the guard owns
   // its lock, input_mu_ makes its verdict and the epoch read one step.
@@ -132,7 +135,7 @@ class EskfNodelet : public nodelet::Nodelet {
   // startup_ reports a start-up failure (then nothing else is started).
   hapi_nodelet_kit::StartupFailure startup_{kStatusName, kHardwareId};
   ros::Subscriber landmarks_sub_, imu_sub_;
-  ros::ServiceServer reset_srv_, save_map_srv_, save_traj_srv_;
+  ros::ServiceServer reset_srv_, save_map_srv_, save_traj_srv_, refine_srv_;
   ros::WallTimer map_timer_, diag_timer_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
 };

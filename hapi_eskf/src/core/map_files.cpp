@@ -1,16 +1,21 @@
-#include "hapi_eskf/ros/export.hpp"
+// The PLY and TUM writers and the map point's scalar sigma (map_files.hpp).
+#include "hapi_eskf/map_files.hpp"
 
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace hapi_eskf {
-namespace ros_glue {
 namespace {
 
 // Writes to "<path>.tmp" and renames, so a reader never sees a half file.
@@ -23,6 +28,13 @@ std::string commit(std::ofstream& f, const std::string& tmp, const std::string& 
 }
 
 }  // namespace
+
+double landmarkSigma(const Mat3& covariance) {
+  const Mat3 S = 0.5 * (covariance + covariance.transpose());
+  if (!S.allFinite()) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(S, Eigen::EigenvaluesOnly);
+  return std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff()));
+}
 
 std::string writePly(const std::string& path, const std::vector<MapPoint>& points) {
   const std::string tmp = path + ".tmp";
@@ -68,5 +80,4 @@ std::string timestampedPath(const std::string& dir, const std::string& prefix, c
   return s.str();
 }
 
-}  // namespace ros_glue
 }  // namespace hapi_eskf

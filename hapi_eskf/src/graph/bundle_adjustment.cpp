@@ -1,0 +1,158 @@
+// The Ceres problem of Graph SLAM (bundle_adjustment.hpp). Pose parameters
+// are [p (3), q (4, Eigen's x y z w)] with Ceres's product manifold
+// R^3 x EigenQuaternion, whose rotation perturbation is global
+// (q <- Exp(d) q); covariances are mapped to the filter's local dtheta
+// (R = R_hat Exp(dtheta)) as dtheta = R^T d (docs/DESIGN.md "Graph SLAM").
+#include "hapi_eskf/graph/bundle_adjustment.hpp"
+
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+#include <Eigen/Cholesky>
+
+#include <memory>
+#include <unordered_map>
+
+namespace hapi_eskf {
+namespace graph {
+namespace {
+
+// r = W (z - R^T (m - p)), W = L^-1 (L L^T = Cz), autodiff'ed.
+struct StereoPointResidual {
+  StereoPointResidual(const Vec3& z, const Mat3& Cz) : z_(z) {
+    const Mat3 L = Cz.llt().matrixL();
+    W_ = L.triangularView<Eigen::Lower>().solve(Mat3::Identity());
+  }
+  template <typename T>
+  bool operator()(const T* pose, const T* landmark, T* residual) const {
+    Eigen::Map<const Eigen::Matrix<T, 3, 1>> p(pose);
+    Eigen::Map<const Eigen::Quaternion<T>> q(pose + 3);
+    Eigen::Map<const Eigen::Matrix<T, 3, 1>> m(landmark);
+    const Eigen::Matrix<T, 3, 1> h = q.conjugate() * (m - p);
+    const Eigen::Matrix<T, 3, 1> e = z_.cast<T>() - h;
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
+    r = W_.cast<T>() * e;
+    return true;
+  }
+  Vec3 z_;
+  Mat3 W_;
+};
+
+ceres::LossFunction* makeLoss(const GraphSettings& s) {
+  // Ceres's losses act on s = |r|^2 with scale a: Huber(a) is quadratic up
+  // to |r| = a.
+  switch (s.robust_loss) {
+    case RobustLoss::kHuber: return new ceres::HuberLoss(s.robust_scale);
+    case RobustLoss::kCauchy: return new ceres::CauchyLoss(s.robust_scale);
+    case RobustLoss::kNone: break;
+  }
+  return nullptr;
+}
+
+using PoseBlock = Eigen::Matrix<double, 7, 1>;
+
+}  // namespace
+
+Status adjustBundle(const GraphSettings& settings, const BundleOptions& options, const std::vector<char>& constant,
+                    GraphMap* map, BundleReport* report) {
+  BundleReport rep;
+  if (!map || constant.size() != map->keyframes.size()) return Status::kInvalidArgument;
+  if (map->observations.empty()) return Status::kEmptyInput;
+  // Parameter copies: Ceres writes into them; the map changes only on success.
+  std::vector<PoseBlock> poses(map->keyframes.size());
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    poses[k].head<3>() = map->keyframes[k].p;
+    poses[k].tail<4>() = map->keyframes[k].q.normalized().coeffs();
+  }
+  std::unordered_map<uint64_t, Vec3> points;
+  for (const Observation& o : map->observations) {
+    if (o.keyframe < 0 || o.keyframe >= static_cast<int>(poses.size()) || !map->landmarks.count(o.landmark))
+      return Status::kInvalidArgument;
+    points.emplace(o.landmark, map->landmarks.at(o.landmark).position);
+  }
+
+  ceres::Problem::Options popt;
+  popt.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(popt);
+  // One loss object per residual: ownership is simplest, the objects are tiny.
+  std::vector<char> used(poses.size(), 0);
+  for (const Observation& o : map->observations) {
+    auto* cost = new ceres::AutoDiffCostFunction<StereoPointResidual, 3, 7, 3>(new StereoPointResidual(o.z, o.Cz));
+    problem.AddResidualBlock(cost, makeLoss(settings), poses[o.keyframe].data(), points.at(o.landmark).data());
+    used[o.keyframe] = 1;
+  }
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    if (!used[k]) continue;
+    problem.SetManifold(poses[k].data(),
+                        new ceres::ProductManifold<ceres::EuclideanManifold<3>, ceres::EigenQuaternionManifold>(
+                            ceres::EuclideanManifold<3>(), ceres::EigenQuaternionManifold()));
+    if (constant[k]) problem.SetParameterBlockConstant(poses[k].data());
+  }
+  rep.residuals = problem.NumResidualBlocks();
+
+  ceres::Solver::Options sopt;
+  sopt.max_num_iterations = options.max_iterations;
+  sopt.linear_solver_type = options.sparse ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
+  sopt.num_threads = 1;  // the frame thread keeps the other core
+  sopt.logging_type = ceres::SILENT;
+  std::string why;
+  if (!sopt.IsValid(&why)) sopt.linear_solver_type = ceres::DENSE_SCHUR;
+  ceres::Solver::Summary summary;
+  ceres::Solve(sopt, &problem, &summary);
+  rep.iterations = static_cast<int>(summary.iterations.size());
+  rep.initial_cost = summary.initial_cost;
+  rep.final_cost = summary.final_cost;
+  rep.usable = summary.IsSolutionUsable();
+  if (!rep.usable) {
+    if (report) *report = rep;
+    return Status::kOk;
+  }
+
+  // Covariances at the solution (docs/DESIGN.md "Graph SLAM", covariances).
+  int newest_free = -1;
+  for (std::size_t k = 0; k < poses.size(); ++k)
+    if (used[k] && !constant[k]) newest_free = static_cast<int>(k);
+  std::unordered_map<uint64_t, Mat3> point_cov;
+  if (options.covariances) {
+    ceres::Covariance::Options copt;
+    copt.num_threads = 1;
+    copt.algorithm_type = ceres::SPARSE_QR;
+    ceres::Covariance covariance(copt);
+    std::vector<std::pair<const double*, const double*>> blocks;
+    for (const auto& kv : points) blocks.emplace_back(kv.second.data(), kv.second.data());
+    if (newest_free >= 0) blocks.emplace_back(poses[newest_free].data(), poses[newest_free].data());
+    if (covariance.Compute(blocks, &problem)) {
+      rep.covariance_ok = true;
+      for (const auto& kv : points) {
+        Eigen::Matrix<double, 3, 3, Eigen::RowMajor> C;
+        covariance.GetCovarianceBlock(kv.second.data(), kv.second.data(), C.data());
+        point_cov[kv.first] = 0.5 * (C + C.transpose());
+      }
+      if (newest_free >= 0) {
+        Eigen::Matrix<double, 6, 6, Eigen::RowMajor> G;
+        covariance.GetCovarianceBlockInTangentSpace(poses[newest_free].data(), poses[newest_free].data(), G.data());
+        const Eigen::Quaterniond q(poses[newest_free].tail<4>().data());
+        Mat6 J = Mat6::Identity();
+        J.block<3, 3>(3, 3) = q.normalized().toRotationMatrix().transpose();
+        const Mat6 C = J * G * J.transpose();
+        rep.newest_pose_covariance = 0.5 * (C + C.transpose());
+      }
+    }
+  }
+
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    if (!used[k] || constant[k]) continue;
+    map->keyframes[k].p = poses[k].head<3>();
+    map->keyframes[k].q = Eigen::Quaterniond(poses[k].tail<4>().data()).normalized();
+  }
+  for (const auto& kv : points) map->landmarks.at(kv.first).position = kv.second;
+  for (const auto& kv : points) {
+    GraphLandmark& l = map->landmarks.at(kv.first);
+    const auto it = point_cov.find(kv.first);
+    l.covariance = it != point_cov.end() ? it->second : conditionalLandmarkCovariance(*map, l);
+  }
+  if (report) *report = rep;
+  return Status::kOk;
+}
+
+}  // namespace graph
+}  // namespace hapi_eskf

@@ -1,0 +1,32 @@
+// Checks and text forms of GraphSettings, driven by graph_settings.def.
+#include "hapi_eskf/graph/graph_settings.hpp"
+
+#include "hapi_eskf/settings_table.hpp"
+
+namespace hapi_eskf {
+namespace graph {
+
+std::string GraphSettings::validate() const {
+  const std::string err = fieldRangeError(*this);
+  if (!err.empty()) return err;
+  if (!(sigma_acceleration > 0.0) || !(sigma_angular_acceleration > 0.0))
+    return "sigma_acceleration and sigma_angular_acceleration must be > 0";
+  return "";
+}
+
+std::string setFieldFromText(GraphSettings* s, const std::string& name, const std::string& value) {
+  return setTableFieldFromText(s, name, value);
+}
+
+GraphSettings graphSettings(const EskfSettings& s) {
+  GraphSettings g;
+#define HAPI_GRAPH_FIELD(type, name, default_value, range, unit, doc) g.name = s.graph_##name;
+#include "hapi_eskf/graph/graph_settings.def"
+#undef HAPI_GRAPH_FIELD
+  g.sigma_acceleration = s.sigma_acceleration;
+  g.sigma_angular_acceleration = s.sigma_angular_acceleration;
+  return g;
+}
+
+}  // namespace graph
+}  // namespace hapi_eskf
