@@ -15,6 +15,7 @@ HAPI_DEBIAN_PACKAGES=(
   xplanet-images python3-numpy python3-yaml
   python3-matplotlib  # tools/eval plots (PNG)
   iproute2 iptables iputils-ping procps
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev  # test/fuzz: libFuzzer targets (clang, ASan+UBSan runtimes)
   # system: evaluator/ground-truth nodes (Python messages), rviz under Xvfb + xwd screenshots
   python3-sensor-msgs python3-nav-msgs rviz xvfb x11-apps x11-utils
 )
