@@ -6,6 +6,12 @@
 #   tools/sanitize.sh asan [ctest args]   # AddressSanitizer + UndefinedBehaviorSanitizer (+ LeakSanitizer)
 #   tools/sanitize.sh tsan [ctest args]   # ThreadSanitizer
 #
+# HAPI_SANITIZE_TARGETS="targets" builds only those make targets (and what
+# they need) instead of the whole workspace and its tests, for a reduced run
+# with `-R <regex>` as ctest args, e.g. the back end's nodelet and rostests:
+#   HAPI_SANITIZE_TARGETS="hapi_eskf_nodelet test_eskf_nodelet test_eskf_nodelet_imu_base
+#     test_eskf_nodelet_concurrency" tools/sanitize.sh tsan -R "eskf_nodelet"
+#
 # Workspace: $HAPI_WS or <repo>/.ws-<mode>. CUDA is off (no sanitizer sees
 # device code, and no GPU is needed). Any report aborts the process that
 # made it, so a report fails its test; the reports are in ctest's output and
@@ -45,7 +51,7 @@ esac
 
 WS="${HAPI_WS:-$REPO/.ws-$MODE}"
 # CMake takes CXXFLAGS/LDFLAGS on the first configure of a build folder.
-CXXFLAGS="$FLAGS -g" LDFLAGS="$FLAGS" HAPI_WS="$WS" \
+CXXFLAGS="$FLAGS -g" LDFLAGS="$FLAGS" HAPI_WS="$WS" HAPI_MAKE_TARGETS="${HAPI_SANITIZE_TARGETS:-}" \
   HAPI_CMAKE_ARGS="-DHAPI_WITH_CUDA=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo ${HAPI_CMAKE_ARGS:-}" \
   bash "$REPO/scripts/setup.sh"
 
@@ -54,7 +60,7 @@ set +u
 # shellcheck disable=SC1091
 source devel/setup.bash
 set -u
-catkin_make -j"${HAPI_JOBS:-$(nproc)}" tests
+[ -n "${HAPI_SANITIZE_TARGETS:-}" ] || catkin_make -j"${HAPI_JOBS:-$(nproc)}" tests
 export ROS_HOME="$WS/ros_home"
 mkdir -p "$ROS_HOME"
 export LD_PRELOAD="$RUNTIME"
