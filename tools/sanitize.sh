@@ -41,6 +41,13 @@ case "$MODE" in
     FLAGS="-fsanitize=thread"
     RUNTIME="$(gcc -print-file-name=libtsan.so)"
     export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$SUPP/tsan.supp"
+    # With libtsan preloaded, Debian's sh and bash crash at start (SIGSEGV
+    # before main; python and the nodelet manager do not), and ctest runs
+    # every test through catkin's env.sh. So TSan is not preloaded
+    # everywhere: our test executables link it, and the nodelet managers of
+    # the launch files that honour HAPI_MANAGER_PREFIX (the hapi_eskf
+    # rostests) start with it.
+    export HAPI_MANAGER_PREFIX="env LD_PRELOAD=$RUNTIME"
     ;;
   *)
     echo "usage: tools/sanitize.sh asan|tsan [ctest args]" >&2
@@ -63,6 +70,6 @@ set -u
 [ -n "${HAPI_SANITIZE_TARGETS:-}" ] || catkin_make -j"${HAPI_JOBS:-$(nproc)}" tests
 export ROS_HOME="$WS/ros_home"
 mkdir -p "$ROS_HOME"
-export LD_PRELOAD="$RUNTIME"
+[ "$MODE" = tsan ] || export LD_PRELOAD="$RUNTIME"
 cd "$WS/build"
 ctest --output-on-failure --timeout "${HAPI_TEST_TIMEOUT:-1800}" "$@"

@@ -14,6 +14,9 @@
 # until it ends (or HAPI_SOAK_S), and the verdict also requires the
 # filter's map to stay at the pool size after the warm-up and reports the
 # per-frame filter time's slope and the drops (soak_verdict.py).
+# HAPI_SOAK_MAX_LANDMARKS=N runs the back end with a pool of N instead of
+# config/eskf.yaml's (a copy of it with max_landmarks changed), so that a
+# shorter bag fills it.
 #
 # Private roscore on a free port; results in $HAPI_RUN_DIR (default
 # <ws>/reliability/soak): samples.csv, probe.json, logs, report.txt.
@@ -59,7 +62,12 @@ roscore -p "$PORT" >"$OUT/roscore.log" 2>&1 &
 PIDS+=($!)
 for _ in $(seq 60); do rosparam get /rosdistro >/dev/null 2>&1 && break; sleep 0.5; done
 rosparam get /rosdistro >/dev/null 2>&1 || die "roscore did not start"
-roslaunch hapi_slam all_in_one.launch rviz:=false >"$OUT/system.log" 2>&1 &
+ESKF_ARGS=()
+if [ -n "${HAPI_SOAK_MAX_LANDMARKS:-}" ]; then
+  sed "s/^max_landmarks:.*/max_landmarks: $HAPI_SOAK_MAX_LANDMARKS/" "$REPO/config/eskf.yaml" >"$OUT/eskf.yaml"
+  ESKF_ARGS=(eskf_config:="$OUT/eskf.yaml")
+fi
+roslaunch hapi_slam all_in_one.launch rviz:=false "${ESKF_ARGS[@]}" >"$OUT/system.log" 2>&1 &
 LAUNCH_PID=$!
 PIDS+=("$LAUNCH_PID")
 # Both nodelets registered (one rosnode call per try: a loaded machine can
