@@ -18,6 +18,7 @@ HAPI_DEBIAN_PACKAGES=(
   libmrpt-dev  # hapi_eskf_mrpt_bench: MRPT's EKF update side by side with the CPU backend (bench only, optional)
   libceres-dev  # hapi_eskf Graph SLAM and graph_refine (src/graph; skipped without it)
   iproute2 iptables iputils-ping procps
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev  # test/fuzz: libFuzzer targets (clang, ASan+UBSan runtimes)
   # system: evaluator/ground-truth nodes (Python messages), rviz under Xvfb + xwd screenshots
   python3-sensor-msgs python3-nav-msgs rviz xvfb x11-apps x11-utils
 )

@@ -5,6 +5,7 @@
 #
 #   scripts/setup.sh            # install packages (if missing) + catkin_make
 #   HAPI_WS=/path scripts/setup.sh   # use another workspace folder
+#   HAPI_MAKE_TARGETS="a b" scripts/setup.sh   # build only these targets (tools/sanitize.sh)
 #
 # Prints the workspace path as its last line.
 set -euo pipefail
@@ -54,7 +55,7 @@ catkin_make -j"$JOBS" \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 \
   -DCMAKE_BUILD_TYPE=Release \
   -DCATKIN_ENABLE_TESTING=ON \
-  ${HAPI_CMAKE_ARGS:-}
+  ${HAPI_CMAKE_ARGS:-} ${HAPI_MAKE_TARGETS:-}
 # Offline rosdep view where the tests and run scripts keep ROS_HOME (see
 # rosdep_offline.sh for why `rosrun nodelet declared_nodelets` needs it).
 ROS_HOME="${ROS_HOME:-$WS/ros_home}" bash "$REPO/scripts/rosdep_offline.sh"

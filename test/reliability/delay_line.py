@@ -14,6 +14,10 @@ point-to-point addresses, and relays every IP packet from one to the other
 after a fixed delay, dropping each packet independently with probability
 loss/100 in each direction (the netem model: i.i.d. loss, constant delay).
 
+Outages: SIGUSR1 takes the link down (every packet dropped, both
+directions, counted as packets_dropped_outage; as a radio out of range),
+SIGUSR2 brings it back.
+
 Runs until SIGINT/SIGTERM. Writes per-direction counters (packets and bytes
 forwarded, packets dropped) to --stats as JSON every second and on exit.
 Root only.
@@ -78,8 +82,12 @@ def main():
     p_loss = args.loss / 100.0
     other = {fd_a: fd_b, fd_b: fd_a}
     name = {fd_a: "%s->%s" % (args.ns_a, args.ns_b), fd_b: "%s->%s" % (args.ns_b, args.ns_a)}
-    stats = {n: {"packets_in": 0, "packets_dropped": 0, "packets_out": 0, "bytes_out": 0, "write_errors": 0}
+    stats = {n: {"packets_in": 0, "packets_dropped": 0, "packets_dropped_outage": 0, "packets_out": 0,
+                 "bytes_out": 0, "write_errors": 0}
              for n in name.values()}
+    down = []  # non-empty while the link is out
+    signal.signal(signal.SIGUSR1, lambda *_: down.append(1))
+    signal.signal(signal.SIGUSR2, lambda *_: down.clear())
     queue = []  # (due time, sequence, destination fd, packet, direction)
     seq = 0
     stop = []
@@ -120,6 +128,9 @@ def main():
                     break
                 d = name[fd]
                 stats[d]["packets_in"] += 1
+                if down:
+                    stats[d]["packets_dropped_outage"] += 1
+                    continue
                 if rng.random() < p_loss:
                     stats[d]["packets_dropped"] += 1
                     continue

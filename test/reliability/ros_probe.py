@@ -27,6 +27,7 @@ class Probe(object):
         self.lock = threading.Lock()
         self.odom = []   # [wall, stamp, x, y, z]
         self.diag = {}   # status name -> {"level":, "message":, "values": {}}
+        self.diag_series = []  # [wall, status name, {values}] of every status received
         rospy.Subscriber(odom_topic, Odometry, self.on_odom, queue_size=1000)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=100)
 
@@ -41,6 +42,7 @@ class Probe(object):
                 self.diag[st.name] = {"level": ord(st.level) if isinstance(st.level, (bytes, str)) else int(st.level),
                                       "message": st.message,
                                       "values": {kv.key: kv.value for kv in st.values}}
+                self.diag_series.append([time.time(), st.name, self.diag[st.name]["values"]])
 
 
 def summarise(odom, start_wall):
@@ -85,11 +87,12 @@ def main():
     while time.time() - start < args.duration and not rospy.is_shutdown() and not stop:
         time.sleep(0.1)
     with probe.lock:
-        odom, diag = list(probe.odom), dict(probe.diag)
+        odom, diag, series = list(probe.odom), dict(probe.diag), list(probe.diag_series)
     out = summarise(odom, start)
     out["duration_s"] = time.time() - start
     out["diagnostics"] = diag
     out["odom"] = [[round(o[0] - start, 3), o[1], o[2], o[3], o[4]] for o in odom]
+    out["diagnostics_series"] = [[round(d[0] - start, 3), d[1], d[2]] for d in series]
     with open(args.out, "w") as f:
         json.dump(out, f, indent=1)
     print("[probe] %d odometry messages (%.1f Hz), max step %.4f m, %d stamp jumps, %d diagnostic statuses"

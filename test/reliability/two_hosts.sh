@@ -20,6 +20,11 @@
 #   3. play it in a loop for 1.6 bag lengths: the loop's backwards jump must
 #      reset the filter cleanly (first pose of the new timeline at the
 #      origin, odometry continues, no filter error).
+# HAPI_SCENARIO=outage runs one other phase instead: the bag (longer than
+# the outage) plays once and HAPI_OUTAGE_AT s in (default 6) the link goes
+# down for HAPI_OUTAGE_LEN s (default 30) and comes back; outage_verdict.py
+# judges it (odometry resumes, the back end relocalises, no backlog of old
+# frames, both managers' memory flat, the back end never restarted).
 # Results in $HAPI_RUN_DIR (default <ws>/reliability/two_hosts): phase*.json,
 # link.json, logs, report.txt (two_hosts_verdict.py). Exit 0 when every
 # check passes, 77 (skip) when this machine cannot make network namespaces
@@ -34,6 +39,9 @@ LOSS="${HAPI_NET_LOSS:-5}"            # percent, each direction
 LINK="${HAPI_LINK:-auto}"             # auto | netem | tun | iptables (force one kind of link)
 RESTART_AT="${HAPI_RESTART_AT:-10}"   # [s] into phase 2
 AFTER_RESTART="${HAPI_AFTER_RESTART:-25}"  # [s] phase 2 goes on after the restart command
+SCENARIO="${HAPI_SCENARIO:-phases}"    # phases | outage
+OUTAGE_AT="${HAPI_OUTAGE_AT:-6}"       # [s] after the player starts (outage scenario)
+OUTAGE_LEN="${HAPI_OUTAGE_LEN:-30}"    # [s] the link is down
 OUT="${HAPI_RUN_DIR:-$WS/reliability/two_hosts}"
 SFX="$$"                              # two concurrent runs never share a namespace
 NS_R="hapi_robot_$SFX" NS_S="hapi_server_$SFX"
@@ -55,14 +63,14 @@ source "$WS/devel/setup.bash" || die "no workspace at $WS (run scripts/setup.sh)
 set -u
 BAG="${1:-${HAPI_DATA:-$REPO/.data}/globe.bag}"
 mkdir -p "$OUT"
-rm -f "$OUT"/phase*.json "$OUT"/*.log "$OUT"/report.txt "$OUT"/link.json "$OUT"/link.ready
+rm -f "$OUT"/outage.json "$OUT"/phase*.json "$OUT"/*.log "$OUT"/report.txt "$OUT"/link.json "$OUT"/link.ready
 if [ ! -s "$BAG" ]; then
   BAG="$OUT/globe.bag"
   [ -s "$BAG" ] || rosrun hapi_sim make_globe_bag --output "$BAG" --seed 1 --duration 25 --rate 10 --imu 1
 fi
 BAG_LEN="$(python3 -c "import rosbag,sys; b=rosbag.Bag(sys.argv[1]); print(int(b.get_end_time()-b.get_start_time()+0.999))" "$BAG")"
 log "bag $BAG ($BAG_LEN s), results in $OUT"
-[ "$RESTART_AT" -lt "$BAG_LEN" ] || die "HAPI_RESTART_AT=$RESTART_AT s must be shorter than the bag ($BAG_LEN s)"
+[ "$SCENARIO" = outage ] || [ "$RESTART_AT" -lt "$BAG_LEN" ] || die "HAPI_RESTART_AT=$RESTART_AT s must be shorter than the bag ($BAG_LEN s)"
 PLAYER=/usr/lib/rosbag/play   # the player itself (not the Python wrapper): $! is the process to stop
 [ -x "$PLAYER" ] || PLAYER="$(command -v rosbag) play"
 
@@ -202,6 +210,56 @@ play_bg() {  # play_bg [rosbag play options]: PLAY_PID
   ip netns exec "$NS_R" "${ENV_R[@]}" $PLAYER -q -d 2 "$@" "$BAG" </dev/null >>"$OUT/rosbag.log" 2>&1 &
   PLAY_PID=$!
 }
+
+# The link out of service (every packet lost, both ways) and back.
+link_down() {
+  case "$LINK_KIND" in
+    tun) kill -USR1 "$DELAY_LINE_PID" ;;
+    netem) ip -n "$NS_R" qdisc change dev "$IF_R" root netem delay "${DELAY_MS}ms" loss 100%
+           ip -n "$NS_S" qdisc change dev "$IF_S" root netem delay "${DELAY_MS}ms" loss 100% ;;
+    iptables) ip netns exec "$NS_R" iptables -I INPUT 1 -i "$IF_R" -j DROP
+              ip netns exec "$NS_S" iptables -I INPUT 1 -i "$IF_S" -j DROP ;;
+  esac
+}
+link_up() {
+  case "$LINK_KIND" in
+    tun) kill -USR2 "$DELAY_LINE_PID" ;;
+    netem) ip -n "$NS_R" qdisc change dev "$IF_R" root netem delay "${DELAY_MS}ms" loss "$LOSS%"
+           ip -n "$NS_S" qdisc change dev "$IF_S" root netem delay "${DELAY_MS}ms" loss "$LOSS%" ;;
+    iptables) ip netns exec "$NS_R" iptables -D INPUT -i "$IF_R" -j DROP
+              ip netns exec "$NS_S" iptables -D INPUT -i "$IF_S" -j DROP ;;
+  esac
+}
+rss_kib() { awk '/^VmRSS/ {print $2}' "/proc/$1/status" 2>/dev/null || echo 0; }
+robot_manager_pid() { pgrep -f "__name:=robot_manager" | head -1; }
+
+if [ "$SCENARIO" = outage ]; then
+  [ "$OUTAGE_AT" -lt "$BAG_LEN" ] || die "HAPI_OUTAGE_AT=$OUTAGE_AT s must be shorter than the bag ($BAG_LEN s)"
+  ROBOT_MGR="$(robot_manager_pid)"
+  log "outage: the bag once, link down $OUTAGE_AT s after the player starts, for $OUTAGE_LEN s"
+  probe $((BAG_LEN + 60)) outage
+  sleep 1
+  play_bg
+  sleep $((2 + OUTAGE_AT))   # the player waits 2 s (-d 2) before its first frame
+  RSS=("$(rss_kib "$MGR_PID_START")" "$(rss_kib "$ROBOT_MGR")")
+  DOWN_WALL="$(now_rel "$PROBE_START")"
+  link_down
+  log "link down at $DOWN_WALL s"
+  sleep "$OUTAGE_LEN"
+  RSS+=("$(rss_kib "$MGR_PID_START")" "$(rss_kib "$ROBOT_MGR")")
+  link_up
+  UP_WALL="$(now_rel "$PROBE_START")"
+  log "link up at $UP_WALL s"
+  wait "$PLAY_PID" || true
+  RSS+=("$(rss_kib "$MGR_PID_START")" "$(rss_kib "$ROBOT_MGR")")
+  end_probe
+  kill -0 "$SERVER_PID" 2>/dev/null || die "the back end died during the outage scenario"
+  [ "$LINK_KIND" = tun ] && sleep 1.5   # delay_line.py rewrites link.json every second
+  python3 "$REPO/test/reliability/outage_verdict.py" --probe "$OUT/outage.json" --link "$IMPAIR" \
+    --link-json "$OUT/link.json" --down-wall "$DOWN_WALL" --up-wall "$UP_WALL" \
+    --manager-pids "$MGR_PID_START" "$(server_manager_pid)" --rss-kib "${RSS[@]}" | tee "$OUT/report.txt"
+  exit "${PIPESTATUS[0]}"
+fi
 
 # Phase 1: one pass across the lossy link.
 log "phase 1: play the bag once"

@@ -74,6 +74,9 @@ class CovarianceBackend : public AssociationSource {
   int numLandmarks() const override = 0;    // K
   virtual int descriptorLength() const = 0;  // bytes; fixed at construction
   virtual std::size_t memoryBytes() const = 0;  // C + work buffers + descriptors
+  // The device call behind the last Status::kBackendError ("" when none or
+  // the backend has no device).
+  virtual std::string lastError() const { return {}; }
 
   // K := 0 and C := C_pose (P x P). kInvalidArgument (not P x P),
   // kNonFinite, kInvalidArgument (not symmetric), kNotPositiveDefinite
@@ -176,5 +179,11 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
 // cuda_device setting) is usable. *why names the device and either describes
 // it or says why it cannot be used.
 bool cudaBackendAvailable(int device, std::string* why);
+
+// True when the CUDA backend of the settings (max_landmarks, motion_model,
+// precision, cuda_device) fits in the device's free memory with descriptors
+// of up to `descriptor_length` bytes. Otherwise false, and *why states the
+// memory needed, free and total (or why CUDA is unusable).
+bool cudaPoolFits(const EskfSettings& s, int descriptor_length, std::string* why);
 
 }  // namespace hapi_eskf

@@ -102,6 +102,7 @@ class Eskf final : public SlamBackend {
   // seif with the information storage), the storage the backend's name.
   const char* name() const override { return toString(settings_.backend_algorithm); }
   std::string storage() const override { return backend_ ? backend_->name() : "none"; }
+  std::string lastError() const override { return backend_ ? backend_->lastError() : std::string(); }
   std::size_t memoryBytes() const override { return backend_ ? backend_->memoryBytes() : 0; }
   bool supportsImu() const override { return model_->usesImu(); }
   bool poseBlockState(PoseBlockState* out) const override;

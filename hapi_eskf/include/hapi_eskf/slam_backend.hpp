@@ -46,6 +46,9 @@ class SlamBackend {
   // Where its state lives, for diagnostics ("cpu", "cuda", "seif-cpu", ...).
   virtual std::string storage() const = 0;
   virtual std::size_t memoryBytes() const = 0;
+  // The device call behind the last Status::kBackendError ("" when none or
+  // the storage has no device).
+  virtual std::string lastError() const { return {}; }
 
   // Empties the map; the camera starts at `initial` (camera pose in the world)
   // at `stamp`. Until a reset succeeds every other call returns kNotInitialised.

@@ -24,6 +24,14 @@ bool cudaBackendAvailable(int device, std::string* why) {
 #endif
 }
 
+bool cudaPoolFits(const EskfSettings& s, int descriptor_length, std::string* why) {
+#ifdef HAPI_ESKF_WITH_CUDA
+  return cuda::poolFits(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s, why);
+#else
+  return cudaBackendAvailable(s.cuda_device, why);
+#endif
+}
+
 std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descriptor_length, std::string* error) {
   const std::string bad = s.validate();
   if (!bad.empty()) {

@@ -39,6 +39,10 @@ std::vector<double> rowMajorPair(const PoseMat& F, const PoseMat& Q) {
   return h;
 }
 
+// Columns of the update workspace allocated up front (it grows when an
+// update has more blocks).
+int initialWorkColumns(int capacity) { return std::max(3, std::min(600, 3 * capacity)); }
+
 // The settings' cuda_rank_update fixes the schedule of C <- C - A A^T
 // (blas_traits.hpp), cuda_solve how A = P L^-T is formed; auto (the default)
 // chooses both by size (autoRankUpdate, autoSolveByInverse: the fastest on
@@ -77,7 +81,7 @@ class CudaBackend final : public CovarianceBackend {
     if (failed(C_.ensure(ld_ * ld_), "cudaMalloc(C)", why)) return false;
     // Zeroed once so the scratch upper triangle never holds NaN patterns.
     if (failed(cudaMemsetAsync(C_.get(), 0, C_.bytes(), stream_), "cudaMemset(C)", why)) return false;
-    work_cols_ = std::max(3, std::min(600, 3 * cap_));
+    work_cols_ = initialWorkColumns(cap_);
     if (failed(work_.ensure(ld_ * static_cast<std::size_t>(work_cols_)), "cudaMalloc(work)", why)) return false;
     const std::size_t pool = static_cast<std::size_t>(std::max(cap_, 1)) * std::max(D_, 1);
     if (failed(desc_.ensure(pool), "cudaMalloc(descriptors)", why)) return false;
@@ -96,6 +100,7 @@ class CudaBackend final : public CovarianceBackend {
   int capacity() const override { return cap_; }
   int numLandmarks() const override { return K_; }
   int descriptorLength() const override { return D_; }
+  std::string lastError() const override { return last_error_; }
   std::size_t memoryBytes() const override {
     return C_.bytes() + work_.bytes() + S_.bytes() + y_.bytes() + dx_.bytes() + potrf_work_.bytes() + H_.bytes() +
            R_.bytes() + slots_.bytes() + ints_.bytes() + desc_.bytes() + desc_tmp_.bytes() + queries_.bytes() +
@@ -498,6 +503,45 @@ bool deviceAvailable(int device, std::string* info) {
   return true;
 }
 
+std::size_t upFrontBytes(int capacity, int descriptor_length, int pose_dim, Precision precision) {
+  const std::size_t scalar = precision == Precision::kFp32 ? sizeof(float) : sizeof(double);
+  const std::size_t ld = paddedLd(stateDim(capacity, pose_dim));
+  const std::size_t pool = static_cast<std::size_t>(std::max(capacity, 1)) * std::max(descriptor_length, 1);
+  // As CudaBackend::init: C, work, dx, F and Q; the two descriptor pools.
+  return scalar * (ld * ld + ld * initialWorkColumns(capacity) + ld + 2 * kMaxPoseDim * kMaxPoseDim) + 2 * pool;
+}
+
+namespace {
+std::string mib(std::size_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
+
+// "CUDA device N has F MiB free of T MiB" ("" when the query fails).
+std::string memoryText(int device, std::size_t* free_bytes) {
+  std::size_t free_b = 0, total_b = 0;
+  if (cudaSetDevice(device) != cudaSuccess || cudaMemGetInfo(&free_b, &total_b) != cudaSuccess) {
+    cudaGetLastError();
+    return "";
+  }
+  if (free_bytes) *free_bytes = free_b;
+  return "CUDA device " + std::to_string(device) + " has " + mib(free_b) + " free of " + mib(total_b);
+}
+}  // namespace
+
+bool poolFits(int capacity, int descriptor_length, int pose_dim, const EskfSettings& s, std::string* why) {
+  std::string dummy;
+  std::string* out = why != nullptr ? why : &dummy;
+  if (!deviceAvailable(s.cuda_device, out)) return false;
+  std::size_t free_b = 0;
+  const std::string memory = memoryText(s.cuda_device, &free_b);
+  if (memory.empty()) {
+    *out = "CUDA device " + std::to_string(s.cuda_device) + ": cudaMemGetInfo failed";
+    return false;
+  }
+  const std::size_t need = upFrontBytes(capacity, descriptor_length, pose_dim, s.precision);
+  *out = "a pool of " + std::to_string(capacity) + " landmarks (" + toString(s.precision) + ") needs " + mib(need) +
+         " of device memory; " + memory;
+  return need <= free_b;
+}
+
 std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, int pose_dim,
                                                    const EskfSettings& s, std::string* error) {
   std::string dummy;
@@ -516,6 +560,11 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
     *err = info;
     return nullptr;
   }
+  std::string fit;
+  if (!poolFits(capacity, descriptor_length, pose_dim, s, &fit)) {
+    *err = "CUDA backend does not fit: " + fit + " (lower max_landmarks, or precision fp32)";
+    return nullptr;
+  }
   std::string why;
   if (s.precision == Precision::kFp32) {
     auto b = std::make_unique<CudaBackend<float>>(capacity, descriptor_length, pose_dim, s);
@@ -524,7 +573,7 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
     auto b = std::make_unique<CudaBackend<double>>(capacity, descriptor_length, pose_dim, s);
     if (b->init(&why)) return b;
   }
-  *err = "CUDA backend (capacity " + std::to_string(capacity) + ") on " + info + ": " + why;
+  *err = "CUDA backend (capacity " + std::to_string(capacity) + ") on " + info + ": " + why + " (" + fit + ")";
   return nullptr;
 }
 

@@ -40,6 +40,7 @@ void EskfNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   if (!checkStartup()) return;  // inert: nothing below is started
+  fault_policy_ = BackendFaultPolicy(params_.allow_cpu_fallback);
 
   validation_.max_measurements = static_cast<std::uint32_t>(params_.max_measurements_per_msg);
   validation_.expected_frame = params_.camera_frame;
@@ -116,14 +117,16 @@ bool EskfNodelet::checkStartup() {
   }
   if (params_.filter.backend_algorithm == BackendAlgorithm::kEskf && params_.filter.backend == BackendKind::kCuda) {
     std::string why;
-    if (!cudaBackendAvailable(params_.filter.cuda_device, &why)) {
+    // With the largest descriptors a message may carry: the pool is sized
+    // before the first message says which.
+    if (!cudaPoolFits(params_.filter, ros_glue::kMaxDescriptorLength, &why)) {
       if (!params_.allow_cpu_fallback) {
         startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(), "CUDA backend unavailable",
-                        {"~backend=cuda without a usable ~cuda_device (" + why +
-                         ") and ~allow_cpu_fallback is false (true: run on the cpu backend instead)"});
+                        {"~backend=cuda cannot run: " + why +
+                         "; ~allow_cpu_fallback is false (true: run on the cpu backend instead)"});
         return false;
       }
-      NODELET_WARN("*** ~backend=cuda but CUDA is unavailable (%s): FALLING BACK TO THE CPU BACKEND "
+      NODELET_WARN("*** ~backend=cuda cannot run (%s): FALLING BACK TO THE CPU BACKEND "
                    "(set ~allow_cpu_fallback:=false to make this a start-up failure) ***",
                    why.c_str());
       params_.filter.backend = BackendKind::kCpu;
@@ -220,7 +223,9 @@ void EskfNodelet::workerLoop() {
       worker_epoch_ = epoch;
     }
     if (w) {
-      if (w->epoch < worker_epoch_.load()) {
+      if (stopped_) {
+        ++count.frames_failed;  // the filter stopped after a backend fault (reported)
+      } else if (w->epoch < worker_epoch_.load()) {
         ++count.frames_stale;  // accepted before a reset: belongs to the old timeline
       } else {
         try {
@@ -264,8 +269,8 @@ bool EskfNodelet::ensureFilter(const Work& w) {
   }
   if (!backend) {
     ++stats_->counters.filter_errors;
-    NODELET_ERROR_THROTTLE(5.0, "cannot create the %s back end (%s): %s", toString(params_.filter.backend_algorithm),
-                           toString(params_.filter.backend), err.c_str());
+    stop(std::string("cannot create the ") + toString(params_.filter.backend_algorithm) + " back end (" +
+         toString(params_.filter.backend) + "): " + err);
     return false;
   }
   eskf_ = std::move(backend);
@@ -332,6 +337,7 @@ bool EskfNodelet::process(Work& w) {
   if (need_init_) {
     if (!anchorWorld(w)) return false;
     st = eskf_->reset(PoseState(), stamp);
+    if (st == Status::kBackendError) return onBackendFault(stamp);
     if (st != Status::kOk) {
       ++count.filter_errors;
       NODELET_ERROR_THROTTLE(1.0, "filter reset failed: %s", toString(st));
@@ -350,6 +356,8 @@ bool EskfNodelet::process(Work& w) {
   } else {
     st = refiner_->processFrame(*eskf_, w.frame, &rep);  // recorded for ~refine when the ES-EKF runs
   }
+  if (st == Status::kBackendError) return onBackendFault(stamp);
+  fault_policy_.onSuccess();
   if (st == Status::kAwaitingImu) {
     // Inertial model: the first alignment_window of IMU samples sets gravity.
     ++count.frames_awaiting_imu;
@@ -389,6 +397,32 @@ bool EskfNodelet::process(Work& w) {
       output_->publishFrame(w.stamp, w.frame_id, *eskf_, rep.scene_moving);
   trajectory_->record(w.stamp, T_map_cam);
   return true;
+}
+
+bool EskfNodelet::onBackendFault(double stamp) {
+  ros_glue::NodeletStatistics::Counters& count = stats_->counters;
+  ++count.filter_errors;
+  ++count.backend_faults;
+  const std::string what = eskf_->storage() + ": " + eskf_->lastError();
+  stats_->recordFilterError("backend fault: " + what);
+  const FaultAction action = fault_policy_.onFault(params_.filter.backend);
+  NODELET_ERROR("backend fault in the frame at %.3f (%s): frame dropped, filter and map discarded; %s", stamp,
+                what.c_str(), toString(action));
+  eskf_.reset();  // never continued on a backend whose state is not trusted
+  resetFilter();  // path, map and IMU buffer cleared; the next frame starts a new filter
+  if (action == FaultAction::kFallBackToCpu) {
+    NODELET_WARN("*** repeated CUDA backend faults: FALLING BACK TO THE CPU BACKEND ***");
+    params_.filter.backend = BackendKind::kCpu;
+  } else if (action == FaultAction::kStop) {
+    stop("repeated backend faults, last: " + what);
+  }
+  return false;
+}
+
+void EskfNodelet::stop(const std::string& why) {
+  stopped_ = true;
+  stats_->recordStop(why);
+  NODELET_ERROR("filter STOPPED: %s (no more output; restart the node)", why.c_str());
 }
 
 // The map in the published world frame, empty while the filter waits for its

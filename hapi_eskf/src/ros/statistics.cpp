@@ -28,6 +28,11 @@ void NodeletStatistics::recordFilterError(const std::string& what) {
   last_filter_error_ = what;
 }
 
+void NodeletStatistics::recordStop(const std::string& why) {
+  std::lock_guard<std::mutex> lk(mu_);
+  stopped_ = why;
+}
+
 void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat, std::uint64_t frames_dropped) {
   const ros::WallTime now = ros::WallTime::now();
   const double dt = std::max(1e-6, (now - prev_time_).toSec());
@@ -53,7 +58,7 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   prev_awaiting_imu_ = awaiting;
 
   StageStats s;
-  std::string backend, last_error;
+  std::string backend, last_error, stopped;
   std::size_t memory;
   int landmarks;
   {
@@ -64,9 +69,12 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     memory = backend_memory_;
     landmarks = n_landmarks_;
     last_error = last_filter_error_;
+    stopped = stopped_;
   }
-  // Most important first: input problems, then the filter's own state.
-  if (new_rejected > 0)
+  // Most important first: a stopped filter, input problems, then the filter's own state.
+  if (!stopped.empty())
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "filter stopped: %s", stopped.c_str());
+  else if (new_rejected > 0)
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%llu input messages rejected in the last %.1f s",
                   static_cast<unsigned long long>(new_rejected), dt);
   else if (new_dropped > 0)
@@ -107,6 +115,7 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("relocalisations", counters.relocalisations.load());
   stat.add("frames_relocalising", counters.frames_relocalising.load());
   stat.add("filter_errors", counters.filter_errors.load());
+  stat.add("backend_faults", counters.backend_faults.load());
   stat.add("last_filter_error", last_error);
   stat.add("resets", counters.resets.load());
   stat.add("time_jumps", counters.time_jumps.load());

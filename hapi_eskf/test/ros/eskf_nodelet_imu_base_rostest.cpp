@@ -61,9 +61,13 @@ std::size_t numPaths() {
   std::lock_guard<std::mutex> lk(mu);
   return n_paths;
 }
+// The newest odometry; an empty message (stamp 0) before the first one, so
+// that waiting for a stamp simply keeps waiting (back() of an empty vector is
+// undefined: ThreadSanitizer's slower run caught a wait that began before any
+// output had arrived).
 nav_msgs::Odometry lastOdom() {
   std::lock_guard<std::mutex> lk(mu);
-  return odoms.back();
+  return odoms.empty() ? nav_msgs::Odometry() : odoms.back();
 }
 double diagValue(const std::string& k) {
   std::lock_guard<std::mutex> lk(mu);

@@ -135,6 +135,24 @@ TEST(EskfNodeletStartup, InvalidParametersLeaveTheNodeletInertWithAClearError) {
   EXPECT_EQ(landmarksSubscribers("/good"), 1u);
 }
 
+// A pool the device cannot hold (C alone for 200000 landmarks: 2.9 TB) is a
+// start-up failure with the memory needed and available, not a crash at the
+// first frame or a half-started node (without a GPU: the same failure,
+// saying why CUDA is unusable).
+TEST(EskfNodeletStartup, CudaPoolThatDoesNotFitIsFatalWithTheMemoryFigures) {
+  std::string why;
+  const bool cuda = hapi_eskf::cudaBackendAvailable(hapi_eskf::EskfSettings().cuda_device, &why);
+  ros::param::set("/cuda_too_big/backend", std::string("cuda"));
+  ros::param::set("/cuda_too_big/max_landmarks", 200000);
+  ros::param::set("/cuda_too_big/allow_cpu_fallback", false);
+  EXPECT_TRUE(load("/cuda_too_big"));
+  EXPECT_TRUE(isLoaded("/cuda_too_big"));
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::FATAL, "~backend=cuda cannot run"));
+  if (cuda) EXPECT_TRUE(logged(rosgraph_msgs::Log::FATAL, "free of"));
+  EXPECT_TRUE(reportsNotRunning("/cuda_too_big"));
+  EXPECT_EQ(landmarksSubscribers("/cuda_too_big"), 0u) << "/cuda_too_big subscribed with a pool the GPU cannot hold";
+}
+
 TEST(EskfNodeletStartup, CudaWithoutDeviceIsFatalOrAnAnnouncedCpuFallback) {
   std::string why;
   const bool cuda = hapi_eskf::cudaBackendAvailable(hapi_eskf::EskfSettings().cuda_device, &why);

@@ -12,6 +12,7 @@ namespace enc = sensor_msgs::image_encodings;
 
 namespace {
 InputError err(const std::string& reason, const std::string& detail) { return InputError{reason, detail}; }
+std::string sizeText(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
 }  // namespace
 
 InputError toGrey(const sensor_msgs::ImageConstPtr& msg, int mono16_bits, GreyImage* out) {
@@ -90,6 +91,20 @@ InputError toCalib(const sensor_msgs::CameraInfo& info, CameraCalib* c) {
   if (!full_roi) return err("invalid_calibration", "a sub-window ROI is not supported");
   const std::string why = c->validate();
   if (!why.empty()) return err("invalid_calibration", why);
+  return {};
+}
+
+InputError checkPairSizes(const GreyImage& left, const GreyImage& right, const sensor_msgs::CameraInfo& left_info,
+                          const sensor_msgs::CameraInfo& right_info) {
+  if (left.gray.size() != right.gray.size())
+    return err("size_mismatch", "left " + sizeText(left.gray) + " vs right " + sizeText(right.gray));
+  if (static_cast<int>(left_info.width) != left.gray.cols || static_cast<int>(left_info.height) != left.gray.rows ||
+      static_cast<int>(right_info.width) != right.gray.cols || static_cast<int>(right_info.height) != right.gray.rows) {
+    std::ostringstream os;
+    os << "images " << sizeText(left.gray) << " but camera_info " << left_info.width << "x" << left_info.height
+       << " / " << right_info.width << "x" << right_info.height;
+    return err("calibration_size_mismatch", os.str());
+  }
   return {};
 }
 

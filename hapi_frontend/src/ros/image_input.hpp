@@ -39,4 +39,9 @@ InputError toGrey(const sensor_msgs::ImageConstPtr& msg, int mono16_bits, GreyIm
 // a wrong number of coefficients, and binning/ROI (not supported by the core).
 InputError toCalib(const sensor_msgs::CameraInfo& info, CameraCalib* out);
 
+// The two converted images of a pair have one size, and it is the size their
+// CameraInfo messages state ("size_mismatch", "calibration_size_mismatch").
+InputError checkPairSizes(const GreyImage& left, const GreyImage& right, const sensor_msgs::CameraInfo& left_info,
+                          const sensor_msgs::CameraInfo& right_info);
+
 }  // namespace hapi_frontend

@@ -26,8 +26,6 @@ bool sameCalibration(const sensor_msgs::CameraInfo& a, const sensor_msgs::Camera
          a.roi.height == b.roi.height;
 }
 
-std::string sizeText(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
-
 }  // namespace
 
 StereoFrontendNodelet::~StereoFrontendNodelet() {
@@ -229,16 +227,7 @@ void StereoFrontendNodelet::processFrame(const Frame& f) {
   GreyImage left, right;
   if (const InputError e = toGrey(f.left, params_.mono16_bits, &left)) return reject(e.reason, "left: " + e.detail);
   if (const InputError e = toGrey(f.right, params_.mono16_bits, &right)) return reject(e.reason, "right: " + e.detail);
-  if (left.gray.size() != right.gray.size())
-    return reject("size_mismatch", "left " + sizeText(left.gray) + " vs right " + sizeText(right.gray));
-  if (static_cast<int>(f.left_info->width) != left.gray.cols || static_cast<int>(f.left_info->height) != left.gray.rows ||
-      static_cast<int>(f.right_info->width) != right.gray.cols ||
-      static_cast<int>(f.right_info->height) != right.gray.rows) {
-    std::ostringstream os;
-    os << "images " << sizeText(left.gray) << " but camera_info " << f.left_info->width << "x" << f.left_info->height
-       << " / " << f.right_info->width << "x" << f.right_info->height;
-    return reject("calibration_size_mismatch", os.str());
-  }
+  if (const InputError e = checkPairSizes(left, right, *f.left_info, *f.right_info)) return reject(e.reason, e.detail);
   std_msgs::Header header = f.left->header;
   if (header.frame_id.empty()) header.frame_id = f.left_info->header.frame_id;
   if (header.frame_id.empty()) return reject("missing_frame_id", "left image and camera_info have no frame_id");

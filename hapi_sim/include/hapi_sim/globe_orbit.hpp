@@ -27,4 +27,26 @@ PoseT<T> globeOrbitPose(const T& t, const V3<T>& centre, double radius) {
   return P;
 }
 
+// A slow spiral around the globe for long runs that must keep seeing new
+// surface (the full-pool soak, docs/RELIABILITY.md "Full-pool soak"): one
+// turn in azimuth every 150 s while the elevation sweeps +-0.9 rad over
+// 10 minutes, looking at the surface point below the camera, so a band of
+// the globe is seen again only 150 s later, long after the filter's pool
+// (a few hundred frames of new landmarks) evicted its landmarks.
+template <class T>
+PoseT<T> globeSpiralPose(const T& t, const V3<T>& centre, double radius) {
+  using std::cos; using std::sin;
+  const double TWO_PI = 2 * M_PI;
+  const T dist = T(0.55) + T(0.03) * sin(T(TWO_PI / 13.0) * t);
+  const T az = T(-M_PI / 2) + T(TWO_PI / 150.0) * t;
+  const T el = T(0.9) * sin(T(TWO_PI / 600.0) * t);
+  const V3<T> dir(cos(el) * cos(az), cos(el) * sin(az), sin(el));
+  const V3<T> c = centre + dist * dir;
+  const V3<T> target = centre + T(0.2 * radius) * dir;
+  PoseT<T> P;
+  P.R = lookAt(c, target, V3<T>(0.0, 0.0, 1.0), T(0.0));
+  P.p = c;
+  return P;
+}
+
 }  // namespace hapi_sim

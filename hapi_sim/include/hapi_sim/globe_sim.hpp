@@ -95,17 +95,21 @@ struct TrajectorySample {
   Eigen::Vector3d omega_c = Eigen::Vector3d::Zero();  // angular velocity, camera frame
 };
 
-// Smooth analytic orbit/pan around the globe, always looking roughly at it
-// (globe_orbit.hpp); exact derivatives.
+// Smooth analytic path around the globe, always looking roughly at it
+// (globe_orbit.hpp); exact derivatives. kPan: the default data set's
+// orbit/pan; kSpiral: the long run that keeps seeing new surface.
+enum class GlobePath { kPan, kSpiral };
 class Trajectory {
  public:
-  explicit Trajectory(const GlobeScene& scene) : centre_(scene.centre), radius_(scene.radius) {}
+  explicit Trajectory(const GlobeScene& scene, GlobePath orbit = GlobePath::kPan)
+      : centre_(scene.centre), radius_(scene.radius), orbit_(orbit) {}
   Pose pose(double t) const;
   TrajectorySample at(double t) const;
 
  private:
   Eigen::Vector3d centre_;
   double radius_;
+  GlobePath orbit_;
 };
 
 // Deterministic N(0,1) from std::mt19937 with a hand-rolled Box-Muller

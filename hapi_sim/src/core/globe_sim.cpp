@@ -182,8 +182,16 @@ bool isVisible(const Eigen::Vector3d& X_w, const Pose& T_wc, const GlobeScene& s
 
 // ---------------------------------------------------------------- trajectory
 // The orbit is written once (globe_orbit.hpp); its derivatives are exact (Jet2).
+namespace {
+template <class T>
+PoseT<T> orbitPose(GlobePath orbit, const T& t, const Eigen::Vector3d& centre, double radius) {
+  const V3<T> c(centre);
+  return orbit == GlobePath::kSpiral ? globeSpiralPose(t, c, radius) : globeOrbitPose(t, c, radius);
+}
+}  // namespace
+
 Pose Trajectory::pose(double t) const {
-  const PoseT<double> P = globeOrbitPose(t, V3<double>(centre_), radius_);
+  const PoseT<double> P = orbitPose(orbit_, t, centre_, radius_);
   Eigen::Matrix3d R;
   R.col(0) = Eigen::Vector3d(P.R.c0.x, P.R.c0.y, P.R.c0.z);
   R.col(1) = Eigen::Vector3d(P.R.c1.x, P.R.c1.y, P.R.c1.z);
@@ -195,7 +203,7 @@ Pose Trajectory::pose(double t) const {
 }
 
 TrajectorySample Trajectory::at(double t) const {
-  const MotionSample m = motionFromJets(t, globeOrbitPose(Jet2::time(t), V3<Jet2>(centre_), radius_));
+  const MotionSample m = motionFromJets(t, orbitPose(orbit_, Jet2::time(t), centre_, radius_));
   TrajectorySample s;
   s.t = t;
   s.T_wc = pose(t);

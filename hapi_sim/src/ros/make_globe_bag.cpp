@@ -2,7 +2,9 @@
 // by a moving calibrated stereo rig, ground truth, optional IMU) to a rosbag.
 //
 //   make_globe_bag --output F [--seed N] [--duration S] [--rate HZ] [--imu 0|1]
-//                  [--texture PATH] [--noise SIGMA]
+//                  [--texture PATH] [--noise SIGMA] [--orbit pan|spiral]
+// --orbit spiral: the long, non-repeating path of the full-pool soak
+// (globe_orbit.hpp globeSpiralPose).
 //
 // Determinism: every stamp is derived from a fixed epoch (1e9 s) and integer
 // nanosecond periods, image noise from the renderer's per-frame seeds
@@ -66,12 +68,13 @@ struct Options {
   double imu_rate = 100.0;
   double noise = 2.0;
   std::string texture = "/usr/share/xplanet/images/earth.jpg";
+  hapi_sim::GlobePath orbit = hapi_sim::GlobePath::kPan;
 };
 
 [[noreturn]] void usage(const std::string& err) {
   std::cerr << "make_globe_bag: " << err << "\n"
             << "usage: make_globe_bag --output FILE [--seed N] [--duration S] [--rate HZ] [--imu 0|1]\n"
-            << "                      [--texture PATH] [--noise SIGMA_GREY]\n";
+            << "                      [--texture PATH] [--noise SIGMA_GREY] [--orbit pan|spiral]\n";
   std::exit(2);
 }
 
@@ -86,6 +89,10 @@ Options parse(int argc, char** argv) {
     else if (k == "--imu") o.imu = hapi_dataset::parseFlagArg(k, v);
     else if (k == "--texture") o.texture = v;
     else if (k == "--noise") o.noise = parseNumberArg(k, v);
+    else if (k == "--orbit") {
+      if (v != "pan" && v != "spiral") usage("--orbit must be pan or spiral");
+      o.orbit = v == "spiral" ? hapi_sim::GlobePath::kSpiral : hapi_sim::GlobePath::kPan;
+    }
     else usage("unknown option " + k);
   });
   if (o.output.empty()) usage("--output is required");
@@ -101,7 +108,7 @@ int main(int argc, char** argv) {
   const Options opt = parse(argc, argv);
   const hapi_sim::GlobeScene scene = hapi_sim::GlobeScene::makeDefault(opt.texture);
   const hapi_sim::StereoRigModel rig = hapi_sim::StereoRigModel::makeDefault();
-  const hapi_sim::Trajectory traj(scene);
+  const hapi_sim::Trajectory traj(scene, opt.orbit);
   if (scene.texture_source == "generated")
     std::cerr << "[make_globe_bag] texture '" << opt.texture << "' unreadable: using the generated texture\n";
 

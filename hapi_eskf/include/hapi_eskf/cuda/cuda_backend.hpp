@@ -19,6 +19,13 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
 // Device usable? "CUDA device N: name + memory" in *info, else
 // "CUDA device N ...: why not".
 bool deviceAvailable(int device, std::string* info);
+// Device memory that a backend allocates when it is created [bytes]: C, the
+// update workspace, the descriptor pools. Frames add buffers sized by their
+// measurements, small next to C.
+std::size_t upFrontBytes(int capacity, int descriptor_length, int pose_dim, Precision precision);
+// True when upFrontBytes fits in the free memory of device s.cuda_device;
+// else false and *why "... needs X MiB, CUDA device N has Y MiB free of Z MiB".
+bool poolFits(int capacity, int descriptor_length, int pose_dim, const EskfSettings& s, std::string* why);
 
 }  // namespace cuda
 }  // namespace hapi_eskf

@@ -12,7 +12,8 @@
 //
 // Start-up: ~ parameters are read and checked once (params.hpp); an invalid
 // one, a ~backend_algorithm not built into the library, or ~backend=cuda
-// without a usable device while ~allow_cpu_fallback is false, is a start-up failure: the nodelet stays loaded but inert, with
+// without a usable device or without the device memory for the pool while
+// ~allow_cpu_fallback is false, is a start-up failure: the nodelet stays loaded but inert, with
 // FATAL lines and an ERROR "filter" status on /diagnostics
 // (hapi_nodelet_kit/startup_failure.hpp, the policy of every HAPI nodelet).
 //
@@ -26,6 +27,10 @@
 // filter): outputs at the IMU rate that keep flowing while the worker is busy
 // with a frame.
 //
+// GPU faults: a backend error during a frame drops the frame and discards
+// the filter; BackendFaultPolicy decides between a restart on a new backend,
+// the CPU backend (~allow_cpu_fallback) and a clean stop (ERROR status).
+//
 // Resets (service ~reset, or a stamp jumping backwards by more than
 // ~time_jump_reset: hapi_nodelet_kit::StampGuard) bump an epoch; frames carry
 // the epoch they were accepted in, and the worker resets the filter when it
@@ -33,6 +38,7 @@
 // fresh filter.
 #pragma once
 
+#include "hapi_eskf/backend_fault_policy.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/slam_backend.hpp"
 #include "hapi_eskf/ros/graph_refiner.hpp"
@@ -98,6 +104,12 @@ class EskfNodelet : public nodelet::Nodelet {
   bool anchorWorld(const Work& w);
   void applyImu(double up_to);
   bool process(Work& w);  // false: frame not used (error counted)
+  // A backend fault (Status::kBackendError) in the frame at `stamp`: reported,
+  // the frame dropped, then BackendFaultPolicy's action (restart, CPU, stop).
+  bool onBackendFault(double stamp);
+  // The filter stops for good: frames are counted as failed, the
+  // diagnostics status turns ERROR with `why`.
+  void stop(const std::string& why);
   void takeSnapshot();
 
   ros_glue::NodeletParams params_;
@@ -126,6 +138,8 @@ class EskfNodelet : public nodelet::Nodelet {
 
   // Worker-owned filter state.
   std::unique_ptr<SlamBackend> eskf_;
+  BackendFaultPolicy fault_policy_{true};  // set from ~allow_cpu_fallback at start-up
+  bool stopped_ = false;
   bool need_init_ = true;
   bool extrinsic_applied_ = false;  // the camera-IMU extrinsic from TF is in the filter
   ros::Time last_stamp_;

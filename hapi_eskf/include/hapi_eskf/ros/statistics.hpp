@@ -35,6 +35,7 @@ class NodeletStatistics {
     Counter frames_stale{0};   // accepted before a reset: belonged to the old timeline
     Counter frames_failed{0};  // taken by the worker but not used (filter error, exception, no TF)
     Counter resets{0}, time_jumps{0}, update_skips{0}, filter_errors{0};
+    Counter backend_faults{0};  // Status::kBackendError in a frame (a CUDA call failed)
     Counter relocalisations{0}, frames_relocalising{0};
     Counter imu_used{0}, imu_dropped{0};
     // Drops by reason (their sum is imu_dropped) and gaps (samples kept).
@@ -58,6 +59,8 @@ class NodeletStatistics {
   void recordFrame(const IterationReport& report, int n_landmarks, std::size_t backend_memory);
   void recordBackend(const std::string& name, std::size_t memory);
   void recordFilterError(const std::string& what);
+  // The filter stopped for good (reported as ERROR from now on).
+  void recordStop(const std::string& why);
 
   // --- diagnostics timer ---
   // Rates and per-frame means over the period since the previous call;
@@ -75,6 +78,7 @@ class NodeletStatistics {
   std::mutex mu_;
   StageStats stages_;
   std::string last_filter_error_;
+  std::string stopped_;  // why the filter stopped; empty while it runs
   std::string backend_name_ = "none (waiting for the first frame)";
   std::size_t backend_memory_ = 0;
   int n_landmarks_ = 0;

@@ -1,0 +1,181 @@
+// Writes the seed corpus of the fuzz targets: a few valid inputs per target
+// (and one near-miss each) in the record format of bounded_message.hpp.
+//   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed}/seed_*
+// Deterministic (fixed seeds): rerunning it rewrites the same files.
+#include "bounded_message.hpp"
+#include "synthetic_frames.hpp"
+
+#include <hapi_msgs/StereoLandmarks.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <sys/stat.h>
+
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+void write(const std::string& dir, const std::string& name, const Bytes& b) {
+  mkdir(dir.c_str(), 0755);
+  std::ofstream(dir + "/" + name, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+// Landmarks: a short synthetic sequence, a sequence with a NaN landmark and a
+// backwards stamp, a sequence starting with an empty frame.
+void landmarks(const std::string& dir) {
+  hapi_eskf_test::SyntheticScene scene(40, 3);
+  Bytes a;
+  for (int i = 0; i < 4; ++i) hapi_fuzz::appendRecord(scene.frame(0.1 * i, ros::Time(10.0 + 0.1 * i), "cam"), &a);
+  write(dir, "seed_sequence", a);
+  Bytes b;
+  hapi_msgs::StereoLandmarks bad = scene.frame(0.0, ros::Time(10.0), "cam");
+  hapi_fuzz::appendRecord(bad, &b);
+  bad.landmarks[0].position.x = std::numeric_limits<double>::quiet_NaN();
+  bad.header.stamp = ros::Time(10.1);
+  hapi_fuzz::appendRecord(bad, &b);
+  hapi_fuzz::appendRecord(scene.frame(0.2, ros::Time(9.0), "cam"), &b);
+  write(dir, "seed_bad_then_loop", b);
+  Bytes c;
+  hapi_msgs::StereoLandmarks empty = scene.frame(0.0, ros::Time(10.0), "cam");
+  empty.landmarks.clear();
+  empty.descriptors.clear();
+  hapi_fuzz::appendRecord(empty, &c);
+  for (int i = 1; i < 3; ++i) hapi_fuzz::appendRecord(scene.frame(0.1 * i, ros::Time(10.0 + 0.1 * i), "cam"), &c);
+  write(dir, "seed_empty_first", c);
+}
+
+// IMU at 200 Hz from the first frame's stamp (imu_fuzzer.cpp: 100 s), in the
+// camera frame: held still (gravity alignment), then turning and moving.
+void imu(const std::string& dir) {
+  auto sample = [](double t, double wx, double ay) {
+    sensor_msgs::Imu m;
+    m.header.stamp = ros::Time(t);
+    m.header.frame_id = "camera";
+    m.angular_velocity.x = wx;
+    m.linear_acceleration.y = -9.81 + ay;
+    return m;
+  };
+  Bytes still, moving;
+  for (int i = 1; i <= 120; ++i) hapi_fuzz::appendRecord(sample(100.0 + 0.005 * i, 0.0, 0.0), &still);
+  write(dir, "seed_still", still);
+  for (int i = 1; i <= 160; ++i) {
+    const double t = 0.005 * i;
+    hapi_fuzz::appendRecord(sample(100.0 + t, t > 0.4 ? 0.5 * std::sin(6 * t) : 0.0, t > 0.4 ? std::cos(5 * t) : 0.0),
+                            &moving);
+  }
+  write(dir, "seed_moving", moving);
+  Bytes gap;
+  for (int i = 1; i <= 80; ++i) hapi_fuzz::appendRecord(sample(100.0 + 0.005 * i + (i > 70 ? 0.3 : 0.0), 0, 0), &gap);
+  hapi_fuzz::appendRecord(sample(100.1, 0, 0), &gap);  // out of order
+  write(dir, "seed_gap_and_order", gap);
+}
+
+// A textured 96x72 pair: the right image is the left one shifted by 4 px.
+cv::Mat texture(int w, int h) {
+  cv::Mat img(h, w, CV_8UC1);
+  cv::RNG rng(5);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(img, img, cv::Size(3, 3), 0.8);
+  return img;
+}
+
+sensor_msgs::CameraInfo info(int w, int h, double tx) {
+  sensor_msgs::CameraInfo c;
+  c.header.frame_id = "cam";
+  c.width = w;
+  c.height = h;
+  c.distortion_model = "plumb_bob";
+  c.D = {0.0, 0.0, 0.0, 0.0, 0.0};
+  c.K = {80.0, 0, w / 2.0, 0, 80.0, h / 2.0, 0, 0, 1};
+  c.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  c.P = {80.0, 0, w / 2.0, tx, 0, 80.0, h / 2.0, 0, 0, 0, 1, 0};
+  return c;
+}
+
+sensor_msgs::Image image(const cv::Mat& m, const std::string& encoding) {
+  sensor_msgs::Image i;
+  i.header.frame_id = "cam";
+  i.header.stamp = ros::Time(1.0);
+  i.width = m.cols;
+  i.height = m.rows;
+  i.encoding = encoding;
+  i.step = static_cast<std::uint32_t>(m.step);
+  i.data.assign(m.data, m.data + m.step * m.rows);
+  return i;
+}
+
+void imagePairs(const std::string& dir) {
+  const int w = 96, h = 72;
+  const cv::Mat big = texture(w + 8, h);
+  const cv::Mat left = big(cv::Rect(4, 0, w, h)).clone(), right = big(cv::Rect(0, 0, w, h)).clone();
+  Bytes mono;
+  hapi_fuzz::appendRecord(image(left, sensor_msgs::image_encodings::MONO8), &mono);
+  hapi_fuzz::appendRecord(image(right, sensor_msgs::image_encodings::MONO8), &mono);
+  hapi_fuzz::appendRecord(info(w, h, 0.0), &mono);
+  hapi_fuzz::appendRecord(info(w, h, -80.0 * 0.05), &mono);
+  write(dir, "seed_mono8", mono);
+  cv::Mat lc, rc, l16, r16;
+  cv::cvtColor(left, lc, cv::COLOR_GRAY2BGR);
+  cv::cvtColor(right, rc, cv::COLOR_GRAY2BGR);
+  left.convertTo(l16, CV_16U, 256.0);
+  right.convertTo(r16, CV_16U, 256.0);
+  Bytes other;
+  hapi_fuzz::appendRecord(image(lc, sensor_msgs::image_encodings::BGR8), &other);
+  hapi_fuzz::appendRecord(image(rc, sensor_msgs::image_encodings::BGR8), &other);
+  hapi_fuzz::appendRecord(info(w, h, 0.0), &other);
+  hapi_fuzz::appendRecord(info(w, h, -80.0 * 0.05), &other);
+  hapi_fuzz::appendRecord(image(l16, sensor_msgs::image_encodings::MONO16), &other);
+  hapi_fuzz::appendRecord(image(r16, sensor_msgs::image_encodings::MONO16), &other);
+  hapi_fuzz::appendRecord(info(w, h, 0.0), &other);
+  hapi_fuzz::appendRecord(info(w, h, -80.0 * 0.05), &other);
+  write(dir, "seed_bgr8_then_mono16", other);
+}
+
+void compressed(const std::string& dir) {
+  const cv::Mat grey = texture(64, 48);
+  cv::Mat colour;
+  cv::cvtColor(grey, colour, cv::COLOR_GRAY2BGR);
+  auto encode = [](const cv::Mat& m, const std::string& ext, const std::string& format) {
+    sensor_msgs::CompressedImage c;
+    c.header.frame_id = "cam";
+    c.format = format;
+    cv::imencode(ext, m, c.data);
+    Bytes out(ros::serialization::serializationLength(c));
+    ros::serialization::OStream o(out.data(), static_cast<std::uint32_t>(out.size()));
+    ros::serialization::serialize(o, c);
+    return out;
+  };
+  write(dir, "seed_mono_png", encode(grey, ".png", "mono8; png compressed "));
+  write(dir, "seed_rgb_jpeg", encode(colour, ".jpg", "rgb8; jpeg compressed bgr8"));
+  cv::Mat m16;
+  grey.convertTo(m16, CV_16U, 256.0);
+  write(dir, "seed_mono16_png", encode(m16, ".png", "mono16; png compressed "));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_fuzz_seeds <corpus folder>\n");
+    return 2;
+  }
+  const std::string out = argv[1];
+  mkdir(out.c_str(), 0755);
+  landmarks(out + "/landmarks");
+  imu(out + "/imu");
+  imagePairs(out + "/image_pair");
+  compressed(out + "/compressed");
+  return 0;
+}

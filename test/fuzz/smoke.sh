@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# The fuzz targets of test/fuzz as ctest runs them (docs/RELIABILITY.md
+# "Coverage-guided fuzzing"):
+#   smoke.sh build BUILD_DIR MSGS_INCLUDE_DIR      configure + build with clang (once per build folder)
+#   smoke.sh run BUILD_DIR TARGET SECONDS [ARGS]   fuzz TARGET for SECONDS from its seed corpus
+# "run" starts from test/fuzz/corpus/TARGET (the seeds and every input that
+# once crashed, kept as regression inputs) plus what earlier runs in
+# BUILD_DIR found, and fails on any crash, sanitizer report, leak, timeout
+# (> 1 s per input) or memory limit; the input that failed is saved as
+# BUILD_DIR/artifacts/TARGET/<kind>-<sha1>. Exit 77 (ctest: skipped) when
+# clang-14 or libFuzzer is not installed.
+set -euo pipefail
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+export PATH="/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
+MODE="${1:-}"
+BUILD="${2:?usage: smoke.sh build|run BUILD_DIR ...}"
+
+case "$MODE" in
+  build)
+    MSGS="${3:?usage: smoke.sh build BUILD_DIR MSGS_INCLUDE_DIR}"
+    if ! command -v clang++-14 >/dev/null || ! ls /usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a \
+        >/dev/null 2>&1; then
+      echo "smoke.sh: clang++-14 or libFuzzer (libclang-rt-14-dev) missing: fuzz targets skipped"
+      exit 77
+    fi
+    launcher=()
+    command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+    cmake -S "$HERE" -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++-14 -DHAPI_MSGS_INCLUDE_DIR="$MSGS" "${launcher[@]}" >/dev/null
+    cmake --build "$BUILD" -j"${HAPI_JOBS:-$(nproc)}" --target landmarks_fuzzer imu_fuzzer image_pair_fuzzer compressed_fuzzer
+    ;;
+  run)
+    TARGET="${3:?usage: smoke.sh run BUILD_DIR TARGET SECONDS}"
+    SECONDS_="${4:?usage: smoke.sh run BUILD_DIR TARGET SECONDS}"
+    shift 4
+    BIN="$BUILD/${TARGET}_fuzzer"
+    [ -x "$BIN" ] || { echo "smoke.sh: $BIN not built (smoke.sh build first)"; exit 77; }
+    WORK="$BUILD/work/$TARGET"
+    ART="$BUILD/artifacts/$TARGET"
+    mkdir -p "$WORK" "$ART"
+    # New inputs go to WORK (first folder); the committed corpus is read only.
+    # A leak or a sanitizer report is a crash (exit 1), as is a timeout.
+    LOG="$BUILD/$TARGET.log"
+    set +e
+    "$BIN" -max_total_time="$SECONDS_" -timeout=1 -rss_limit_mb=2048 -error_exitcode=1 -timeout_exitcode=1 \
+      -print_final_stats=1 -artifact_prefix="$ART/" "$@" "$WORK" "$HERE/corpus/$TARGET" >"$LOG" 2>&1
+    status=$?
+    set -e
+    # The report (or the final statistics), without libFuzzer's progress lines.
+    grep -v -E '^#[0-9]+[[:space:]]+(NEW|REDUCE|pulse|RELOAD)' "$LOG" | tail -n 80
+    echo "smoke.sh: $TARGET exit status $status"
+    exit "$status"
+    ;;
+  *)
+    echo "usage: smoke.sh build BUILD_DIR MSGS_INCLUDE_DIR | run BUILD_DIR TARGET SECONDS [libFuzzer args]" >&2
+    exit 2
+    ;;
+esac
