@@ -15,6 +15,12 @@ namespace cuda {
 inline bool failed(cudaError_t e, const char* what, std::string* why) {
   if (e == cudaSuccess) return false;
   *why = std::string(what) + ": " + cudaGetErrorString(e);
+  // The runtime also keeps a failed call (e.g. an out-of-memory cudaMalloc)
+  // as its "last error", which the kernel-launch checks read: left there, it
+  // would fail the next launch of any backend in this process, also one
+  // created after the memory came back. Reading it clears it; a sticky error
+  // (a corrupted context) is returned again by the next call anyway.
+  cudaGetLastError();
   return true;
 }
 inline bool failed(cublasStatus_t e, const char* what, std::string* why) {
