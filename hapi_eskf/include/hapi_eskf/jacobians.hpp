@@ -18,6 +18,11 @@ Mat12 predictJacobian(const PoseState& x, double dt, const EskfSettings& s);
 // Process noise for a step of length dt: random walks on v and w.
 Mat12 processNoise(double dt, const EskfSettings& s);
 
+// The same random walks seen on the pose [dp, dtheta] alone, integrated twice
+// over dt (sigma^2 dt^3 / 3): the pose noise of back ends without velocity
+// states in their estimate (graph, fastslam2).
+Mat6 poseRandomWalkNoise(double dt, double sigma_acceleration, double sigma_angular_acceleration);
+
 // The pose block of the covariance after a step: F C F^T + Q, symmetrised so
 // that it stays exactly symmetric over many steps. The CPU backend's predict
 // and the nodelet's IMU-rate PosePropagator both use it.

@@ -67,6 +67,14 @@ PoseMat predictPoseCovariance(const PoseMat& C, const PoseMat& F, const PoseMat&
   return 0.5 * (Cn + Cn.transpose());
 }
 
+Mat6 poseRandomWalkNoise(double dt, double sigma_acceleration, double sigma_angular_acceleration) {
+  Mat6 Q = Mat6::Zero();
+  const double k = dt * dt * dt / 3.0;
+  Q.block<3, 3>(0, 0) = sigma_acceleration * sigma_acceleration * k * Mat3::Identity();
+  Q.block<3, 3>(3, 3) = sigma_angular_acceleration * sigma_angular_acceleration * k * Mat3::Identity();
+  return Q;
+}
+
 Mat12 processNoise(double dt, const EskfSettings& s) {
   Mat12 Q = Mat12::Zero();
   Q.block<3, 3>(kIdxV, kIdxV).diagonal().setConstant(s.sigma_acceleration * s.sigma_acceleration * dt);

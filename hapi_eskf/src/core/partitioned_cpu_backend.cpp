@@ -19,6 +19,7 @@
 #include "cpu_update_steps.hpp"
 #include "lower_triangle.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/descriptor_pool.hpp"
 #include "hapi_eskf/jacobians.hpp"
 
 #include <algorithm>
@@ -298,31 +299,7 @@ class PartitionedCpuBackend final : public CovarianceBackend {
   }
 
   Status doMatchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const override {
-    const int words = desc_len_ / 8, tail = desc_len_ % 8;
-    for (int q = 0; q < n_query; ++q) {
-      const uint8_t* qa = queries + static_cast<std::size_t>(q) * desc_len_;
-      DescriptorMatch& M = (*out)[q];
-      for (int k = 0; k < K_; ++k) {
-        const uint8_t* kb = &desc_[static_cast<std::size_t>(k) * desc_len_];
-        int d = 0;
-        for (int w = 0; w < words; ++w) {
-          uint64_t x, v;
-          std::memcpy(&x, qa + 8 * w, 8);
-          std::memcpy(&v, kb + 8 * w, 8);
-          d += __builtin_popcountll(x ^ v);
-        }
-        for (int t = 0; t < tail; ++t) d += __builtin_popcount(static_cast<unsigned>(qa[8 * words + t] ^ kb[8 * words + t]));
-        if (d < M.best_distance) {
-          M.second_distance = M.best_distance;
-          M.second_slot = M.best_slot;
-          M.best_distance = d;
-          M.best_slot = k;
-        } else if (d < M.second_distance) {
-          M.second_distance = d;
-          M.second_slot = k;
-        }
-      }
-    }
+    matchHamming(queries, n_query, desc_.data(), K_, desc_len_, out);
     return Status::kOk;
   }
 

@@ -1,6 +1,7 @@
 // The FastSLAM 2.0 filter loop, resampling and outputs (fastslam2.hpp;
 // docs/DESIGN.md "FastSLAM 2.0").
 #include "hapi_eskf/fastslam/fastslam2.hpp"
+#include "hapi_eskf/jacobians.hpp"
 
 #include "hapi_eskf/so3.hpp"
 
@@ -36,13 +37,7 @@ Status FastSlam2::reset(const PoseState& initial, double stamp) {
 }
 
 Mat6 FastSlam2::processNoise(double dt) const {
-  // Random walk on v and w integrated twice over dt: sigma^2 dt^3 / 3.
-  Mat6 Q = Mat6::Zero();
-  const double k = dt * dt * dt / 3.0;
-  Q.block<3, 3>(0, 0) = settings_.sigma_acceleration * settings_.sigma_acceleration * k * Mat3::Identity();
-  Q.block<3, 3>(3, 3) =
-      settings_.sigma_angular_acceleration * settings_.sigma_angular_acceleration * k * Mat3::Identity();
-  return Q;
+  return poseRandomWalkNoise(dt, settings_.sigma_acceleration, settings_.sigma_angular_acceleration);
 }
 
 Status FastSlam2::processFrame(const AssociatedFrame& frame, FastSlamReport* report) {

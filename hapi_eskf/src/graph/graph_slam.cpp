@@ -43,13 +43,7 @@ Status GraphSlam::reset(const PoseState& initial, double stamp) {
 }
 
 Mat6 GraphSlam::processNoise(double dt) const {
-  // Random walk on v and w integrated twice over dt: sigma^2 dt^3 / 3.
-  Mat6 Q = Mat6::Zero();
-  const double k = dt * dt * dt / 3.0;
-  Q.block<3, 3>(0, 0) = settings_.sigma_acceleration * settings_.sigma_acceleration * k * Mat3::Identity();
-  Q.block<3, 3>(3, 3) =
-      settings_.sigma_angular_acceleration * settings_.sigma_angular_acceleration * k * Mat3::Identity();
-  return Q;
+  return poseRandomWalkNoise(dt, settings_.sigma_acceleration, settings_.sigma_angular_acceleration);
 }
 
 Status GraphSlam::processFrame(const AssociatedFrame& frame, GraphFrameReport* report) {
