@@ -209,7 +209,6 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
   if (settings.ransac_iterations > 0 && cand_meas.size() >= 6) {
     std::vector<Vec3> X(cand_meas.size()), Z(cand_meas.size());
     std::vector<Mat3> W(cand_meas.size()), Cz(cand_meas.size());
-    const Mat3 R_cam = pose.q.toRotationMatrix();
     for (std::size_t c = 0; c < cand_meas.size(); ++c) {
       X[c] = positions[cand_slot[c]];
       Z[c] = frame.measurements[cand_meas[c]].z;
@@ -219,9 +218,12 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
       // a start or an outage (cm while the velocity is unknown), which would
       // let wrong associations through. What a rigid fit cannot absorb is
       // each point's own noise from its initialisation, of the size of its
-      // measurement noise now (docs/DESIGN.md "Gate each association").
-      W[c] = R_cam * frame.measurements[cand_meas[c]].Cz * R_cam.transpose();
-      Cz[c] = frame.measurements[cand_meas[c]].Cz;
+      // measurement noise now, in the fit's own axes: W_i = R_f C_z R_f^T,
+      // i.e. S_i = R_f (2 C_z) R_f^T (docs/DESIGN.md "Gate each association").
+      // Not the predicted orientation: after an outage it can be far off, and
+      // C_z is long along the ray.
+      W[c].setZero();
+      Cz[c] = 2.0 * frame.measurements[cand_meas[c]].Cz;
     }
     const std::vector<char> inl =
         ransacRigidInliers(X, Z, W, Cz, settings.ransac_iterations, settings.gate_chi2, &a.fit_R, &a.fit_t);
