@@ -9,7 +9,8 @@ The link between robot and server was out of service from --down-wall to
 figures:
   * odometry before the outage, and again within --max-recovery s after it;
   * the back end relocalised against its map (diagnostics relocalisations)
-    rather than dead-reckoning through the gap;
+    rather than dead-reckoning through the gap (its input re-subscriptions
+    during the silence are printed);
   * nothing piled up: after the first --settle s past the return, every
     odometry message is at most --max-lag s behind the bag's clock (a queue
     of old frames would show as a growing lag), and the old frames that TCP
@@ -74,6 +75,9 @@ def main():
     check(relocalisations >= 1, "relocalised against the map after the gap: relocalisations %d, resets %s, "
           "frames_relocalising %s, filter_errors %s" % (relocalisations, filt.get("resets"),
                                                         filt.get("frames_relocalising"), filt.get("filter_errors")))
+    # Informational: how often the back end re-subscribed its inputs while
+    # they were silent (~input_timeout; watched_subscriber.hpp).
+    print("  input re-subscriptions: %s" % filt.get("input_resubscriptions", "n/a"))
 
     # The bag clock against the wall clock, from the frames before the outage
     # (the player runs at rate 1): lag = how far a message is behind it.

@@ -24,8 +24,8 @@ EskfNodelet::~EskfNodelet() {
   // after this, no thread calls into a member while the members go.
   map_timer_.stop();
   diag_timer_.stop();
-  landmarks_sub_.shutdown();
-  imu_sub_.shutdown();
+  landmarks_in_.shutdown();
+  imu_in_.shutdown();
   reset_srv_.shutdown();
   save_map_srv_.shutdown();
   save_traj_srv_.shutdown();
@@ -75,7 +75,7 @@ void EskfNodelet::onInit() {
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
   updater_->setHardwareID(kHardwareId);
   updater_->add(kStatusName, [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
-    stats_->diagnose(stat, mailbox_.dropped());
+    stats_->diagnose(stat, mailbox_.dropped(), landmarks_in_.resubscriptions() + imu_in_.resubscriptions());
   });
   diag_timer_ = nh.createWallTimer(ros::WallDuration(params_.diagnostics_period),
                                    [this](const ros::WallTimerEvent&) { updater_->force_update(); });
@@ -87,9 +87,18 @@ void EskfNodelet::onInit() {
   // Subscribe last: callbacks may run as soon as this returns.
   // The ROS queue only has to absorb a burst until the (fast) callback runs;
   // rate mismatch is handled by the mailbox, where drops are counted.
-  landmarks_sub_ = pnh.subscribe("landmarks", 10, &EskfNodelet::landmarksCallback, this,
-                                 ros::TransportHints().tcpNoDelay());
-  if (params_.usesImu()) imu_sub_ = nh.subscribe(params_.imu_topic, 400, &EskfNodelet::imuCallback, this);
+  const double max_wait = 2 * params_.input_timeout;
+  landmarks_in_.start(
+      nh,
+      [this, pnh]() mutable {
+        return pnh.subscribe("landmarks", 10, &EskfNodelet::landmarksCallback, this,
+                             ros::TransportHints().tcpNoDelay());
+      },
+      params_.input_timeout, max_wait, getName());
+  if (params_.usesImu())
+    imu_in_.start(
+        nh, [this, nh]() mutable { return nh.subscribe(params_.imu_topic, 400, &EskfNodelet::imuCallback, this); },
+        params_.input_timeout, max_wait, getName());
 
   NODELET_INFO("EskfNodelet: algorithm %s, backend %s/%s, K_max %d, motion model %s, world_frame '%s', camera_frame '%s', "
                "base_frame '%s', imu %s",
@@ -147,6 +156,7 @@ void EskfNodelet::reject(Reject r, const std::string& detail) {
 }
 
 void EskfNodelet::landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& msg) {
+  landmarks_in_.received();
   ++stats_->counters.frames_received;
   Work w;
   {
@@ -191,6 +201,7 @@ void EskfNodelet::landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& 
 }
 
 void EskfNodelet::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
+  imu_in_.received();
   // IMU-rate output right here (a pose-block step, no filter access), so it
   // keeps flowing while the worker is busy with a frame.
   if (const std::optional<ros_glue::TimedImuSample> s = imu_->accept(*msg)) output_->publishImuRate(*s);

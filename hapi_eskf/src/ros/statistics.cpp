@@ -33,7 +33,8 @@ void NodeletStatistics::recordStop(const std::string& why) {
   stopped_ = why;
 }
 
-void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat, std::uint64_t frames_dropped) {
+void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat, std::uint64_t frames_dropped,
+                                 std::uint64_t input_resubscriptions) {
   const ros::WallTime now = ros::WallTime::now();
   const double dt = std::max(1e-6, (now - prev_time_).toSec());
   prev_time_ = now;
@@ -111,6 +112,8 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("rejected_total", rejected);
   for (int r = 1; r < kRejectCount; ++r)
     stat.add(std::string("rejected_") + rejectName(static_cast<Reject>(r)), counters.rejected[r].load());
+  // Input topics re-subscribed after a silence (~input_timeout).
+  stat.add("input_resubscriptions", input_resubscriptions);
   stat.add("update_skips", counters.update_skips.load());
   stat.add("relocalisations", counters.relocalisations.load());
   stat.add("frames_relocalising", counters.frames_relocalising.load());

@@ -1,5 +1,7 @@
 #include "compressed_subscriber.hpp"
 
+#include "hapi_frontend/image_header.hpp"
+
 #include <boost/make_shared.hpp>
 #include <cv_bridge/cv_bridge.h>
 #include <opencv2/imgcodecs.hpp>
@@ -16,14 +18,22 @@ bool decodeCompressed(const sensor_msgs::CompressedImage& in, sensor_msgs::Image
   *out = sensor_msgs::Image();
   out->header = in.header;
   cv::Mat img;
+  // The announced size is checked before OpenCV allocates it.
+  *error = in.data.empty() ? std::string() : checkDecodable(in.data.data(), in.data.size(), kMaxDecodedImageBytes);
   try {
-    if (!in.data.empty()) {
+    if (!in.data.empty() && error->empty()) {
       const cv::Mat buf(1, static_cast<int>(in.data.size()), CV_8UC1, const_cast<uint8_t*>(in.data.data()));
       img = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
     }
   } catch (const cv::Exception& e) {
     img.release();
     *error = std::string("OpenCV imdecode: ") + e.what();
+  }
+  // A decoder that read more than the header announced (a header this
+  // reader and the codec library understand differently) is refused too.
+  if (!img.empty() && img.total() * img.elemSize() > kMaxDecodedImageBytes) {
+    *error = "decoded image larger than its header announced";
+    img.release();
   }
   if (img.empty()) {
     if (error->empty()) *error = "undecodable data (" + std::to_string(in.data.size()) + " bytes, format '" + in.format + "')";

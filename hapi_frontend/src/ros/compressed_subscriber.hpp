@@ -25,6 +25,9 @@ namespace hapi_frontend {
 // front end rejects and counts). Undecodable data gives a 0x0 image with the
 // header kept, so the front end counts the pair as malformed instead of the
 // transport dropping it silently. Returns false (and *error) in that case.
+// Only PNG and JPEG are decoded (what the compressed transport sends), and
+// only up to kMaxDecodedImageBytes as their header announces
+// (image_header.hpp), checked before anything is allocated.
 bool decodeCompressed(const sensor_msgs::CompressedImage& in, sensor_msgs::Image* out, std::string* error);
 
 class CompressedSubscriber : public image_transport::SimpleSubscriberPlugin<sensor_msgs::CompressedImage> {

@@ -89,3 +89,20 @@ TEST(CompressedSubscriber, GarbageGivesAZeroSizeImageWithTheHeader) {
   EXPECT_FALSE(decodeCompressed(m, &out, &err));
   EXPECT_FALSE(err.empty());
 }
+
+TEST(CompressedSubscriber, AnnouncedSizeOverTheLimitIsRefusedBeforeDecoding) {
+  // A valid PNG whose IHDR announces 40000 x 40000 grey (1.6 GB decoded).
+  sensor_msgs::CompressedImage m = encode(pattern(CV_8UC1), ".png", "mono8; png compressed");
+  for (std::size_t at : {16u, 20u}) {
+    m.data[at] = 0;
+    m.data[at + 1] = 0;
+    m.data[at + 2] = 40000 >> 8;
+    m.data[at + 3] = 40000 & 0xFF;
+  }
+  sensor_msgs::Image out;
+  std::string err;
+  EXPECT_FALSE(decodeCompressed(m, &out, &err));
+  EXPECT_NE(err.find("40000x40000x1"), std::string::npos) << err;
+  EXPECT_EQ(out.width, 0u);
+  EXPECT_EQ(out.height, 0u);
+}

@@ -55,6 +55,7 @@
 #include <hapi_nodelet_kit/mailbox.hpp>
 #include <hapi_nodelet_kit/stamp_guard.hpp>
 #include <hapi_nodelet_kit/startup_failure.hpp>
+#include <hapi_nodelet_kit/watched_subscriber.hpp>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
@@ -148,7 +149,7 @@ class EskfNodelet : public nodelet::Nodelet {
   // them (and joins the worker) before any member they use is destroyed.
   // startup_ reports a start-up failure (then nothing else is started).
   hapi_nodelet_kit::StartupFailure startup_{kStatusName, kHardwareId};
-  ros::Subscriber landmarks_sub_, imu_sub_;
+  hapi_nodelet_kit::WatchedSubscriber landmarks_in_, imu_in_;
   ros::ServiceServer reset_srv_, save_map_srv_, save_traj_srv_, refine_srv_;
   ros::WallTimer map_timer_, diag_timer_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;

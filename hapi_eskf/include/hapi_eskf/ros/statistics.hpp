@@ -64,8 +64,10 @@ class NodeletStatistics {
 
   // --- diagnostics timer ---
   // Rates and per-frame means over the period since the previous call;
-  // `frames_dropped` is the mailbox's count (newer frame arrived first).
-  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat, std::uint64_t frames_dropped);
+  // `frames_dropped` is the mailbox's count (newer frame arrived first),
+  // `input_resubscriptions` the input topics' (watched_subscriber.hpp).
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat, std::uint64_t frames_dropped,
+                std::uint64_t input_resubscriptions);
 
  private:
   // Sums of the per-stage figures since the last report.
