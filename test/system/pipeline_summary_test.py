@@ -27,6 +27,8 @@ GOOD = {
     "poses_compared": 150, "ate_rmse_m": 0.01, "ate_max_m": 0.03, "distance_travelled_m": 1.0,
     "ate_fraction_of_distance": 0.01, "map_points": 500, "map_rms_to_sphere_m": 0.004,
     "map_median_abs_to_sphere_m": 0.003,
+    "latency": {"image_to_landmarks_ms": {"p50": 21.0, "p99": 30.5, "max": 41.0},
+                "image_to_odometry_ms": {"p50": 33.0, "p99": 48.25, "max": 60.0}},
 }
 
 
@@ -45,7 +47,7 @@ def write_diag_bag(path):
         for i, (processed, t_ms, dropped) in enumerate(windows):
             arr = DiagnosticArray()
             arr.status.append(status("eskf: filter", frames_processed=processed, frames_received=processed + dropped,
-                                     frames_dropped=dropped, t_update_ms=t_ms))
+                                     frames_dropped=dropped, t_update_ms=t_ms, latency_p50_ms=30.0 + i))
             arr.status.append(status("unrelated: other node", frames_processed=99, t_x_ms=1000.0))
             bag.write("/diagnostics", arr, rospy.Time(100 + i))
 
@@ -75,6 +77,8 @@ class PipelineSummaryTest(unittest.TestCase):
         mean, worst = f["stages"]["t_update_ms"]
         self.assertAlmostEqual(mean, (10 * 20.0 + 30 * 40.0) / 40)  # the idle window does not count
         self.assertAlmostEqual(worst, 40.0)
+        # Run-wide percentiles are not stage means.
+        self.assertNotIn("latency_p50_ms", f["stages"])
         self.assertEqual(f["account"]["frames_dropped"], "2")
 
     def test_pass(self):
@@ -83,6 +87,7 @@ class PipelineSummaryTest(unittest.TestCase):
         self.assertIn("= 1.00 %", out)
         self.assertIn("t_update_ms", out)
         self.assertIn("frames_dropped 2", out)
+        self.assertIn("latency to odometry  : p50 33.0 ms, p99 48.2 ms", out)
 
     def test_metric_out_of_bounds(self):
         rc, out = self.run_summary(dict(GOOD, ate_fraction_of_distance=0.03), self.diag)
@@ -96,6 +101,10 @@ class PipelineSummaryTest(unittest.TestCase):
         rc, out = self.run_summary(GOOD)  # no diagnostics: timing missing
         self.assertEqual(rc, 1, out)
         self.assertIn("MISSING: per-stage timing", out)
+        no_latency = {k: v for k, v in GOOD.items() if k != "latency"}
+        rc, out = self.run_summary(no_latency, self.diag)
+        self.assertEqual(rc, 1, out)
+        self.assertIn("MISSING: latency", out)
         no_ate = {k: v for k, v in GOOD.items() if not k.startswith("ate_")}
         rc, out = self.run_summary(no_ate, self.diag)
         self.assertEqual(rc, 1, out)

@@ -180,7 +180,26 @@ class RunCollector:
             res["map_points"] = int(len(map_points))
         res["diagnostics"] = {k: v for k, v in diag.items() if "hapi" in k.lower() or "eskf" in k.lower()
                               or "frontend" in k.lower()}
+        latency = latency_summary(res["diagnostics"])
+        if latency:
+            res["latency"] = latency
         return res, series, est, gt
+
+
+def latency_summary(diag):
+    """Image stamp to output latencies over the run, from the nodelets' last
+    /diagnostics (ROS clock: the bag's /clock in a replay): to the front
+    end's landmarks, and to the back end's odometry carrying the frame's
+    correction (front end, transport and back end together)."""
+    out = {}
+    keys = {"image_to_landmarks_ms": "latency stamp to landmarks %s [ms]", "image_to_odometry_ms": "latency_%s_ms"}
+    for values in diag.values():
+        for name, pattern in keys.items():
+            try:
+                out[name] = {q: float(values[pattern % q]) for q in ("p50", "p99", "max")}
+            except (KeyError, ValueError):
+                continue
+    return out
 
 
 def write_run_files(out_dir, res, series, est, gt):
@@ -229,6 +248,13 @@ class PipelineAccuracyTest(unittest.TestCase):
         if rospy.has_param("~max_position_error"):  # never diverged: the largest error after the alignment
             self.assertLessEqual(res["ate_max_m"], rospy.get_param("~max_position_error"))
         self.assertGreater(res.get("map_points", 0), 0, "empty map")
+        # Both nodelets report the image-stamp latency (values are benchmark
+        # figures, not bounds).
+        for key in ("image_to_landmarks_ms", "image_to_odometry_ms"):
+            lat = res.get("latency", {}).get(key)
+            self.assertIsNotNone(lat, "no %s latency in /diagnostics" % key)
+            self.assertLessEqual(0.0, lat["p50"])
+            self.assertLessEqual(lat["p50"], lat["p99"])
         self.assertIn("map_rms_to_sphere_m", res, "globe geometry unknown")
         self.assertLessEqual(res["map_rms_to_sphere_m"], rospy.get_param("~max_map_rms", 0.01))
 

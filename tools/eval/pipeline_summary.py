@@ -25,6 +25,9 @@ import yaml
 
 COUNTER_RE = re.compile(r"processed|updates|frames", re.IGNORECASE)
 TIME_RE = re.compile(r"\[ms\]$|_ms$", re.IGNORECASE)  # "time match [ms]", "t_update_ms"
+# Latencies are percentiles over the whole run, not per-window means: the
+# report's `latency` section has them (evaluate_run.py), not the stage table.
+LATENCY_RE = re.compile(r"^latency", re.IGNORECASE)
 # Frame accounting shown next to the timings: a filter slower than the camera
 # drops frames (newest wins), which explains fewer odometry messages than images.
 ACCOUNT_RE = re.compile(r"^frames_(received|processed|dropped|failed)$|^(frames )?(received|processed)$"
@@ -83,7 +86,7 @@ def stage_timings(diag):
             else:
                 weights.append(1.0)
         for key in samples[-1][1]:
-            if not TIME_RE.search(key):
+            if not TIME_RE.search(key) or LATENCY_RE.search(key):
                 continue
             num = den = 0.0
             peak = None
@@ -175,6 +178,14 @@ def main():
     else:
         missing.append("map error (no map received)")
 
+    lat = rep.get("latency", {})
+    for key, label in (("image_to_landmarks_ms", "latency to landmarks "), ("image_to_odometry_ms", "latency to odometry  ")):
+        if key in lat:
+            v = lat[key]
+            print(f"{label}: p50 {v['p50']:.1f} ms, p99 {v['p99']:.1f} ms, max {v['max']:.1f} ms "
+                  f"(image stamp to output, ROS clock)")
+    if "image_to_odometry_ms" not in lat:
+        missing.append("latency (the back end's diagnostics carry no latency_p50_ms)")
     print("per-stage timing (mean over the frames processed, wall clock):")
     if a.diagnostics:
         try:

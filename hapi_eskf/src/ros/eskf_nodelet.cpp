@@ -406,6 +406,9 @@ bool EskfNodelet::process(Work& w) {
   last_stamp_ = w.stamp;
   const ros_glue::CameraInMap T_map_cam =
       output_->publishFrame(w.stamp, w.frame_id, *eskf_, rep.scene_moving);
+  // The correction is in the outputs now (with an IMU model: in the samples
+  // publishFrame caught up, or the next one).
+  stats_->recordLatency((ros::Time::now() - w.stamp).toSec());
   trajectory_->record(w.stamp, T_map_cam);
   return true;
 }

@@ -122,6 +122,12 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("last_filter_error", last_error);
   stat.add("resets", counters.resets.load());
   stat.add("time_jumps", counters.time_jumps.load());
+  // Image stamp to the frame's correction in the outputs, over the run [ms].
+  const hapi_nodelet_kit::LatencyHistogram::Summary lat = latency_.summary();
+  stat.add("latency_p50_ms", lat.p50 * 1e3);
+  stat.add("latency_p99_ms", lat.p99 * 1e3);
+  stat.add("latency_max_ms", lat.max * 1e3);
+  stat.add("latency_frames", lat.count);
   stat.add("landmarks", landmarks);
   stat.add("backend", backend);
   stat.add("backend_memory_mib", memory / kBytesPerMiB);

@@ -78,6 +78,11 @@ void FrontendDiagnostics::produce(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("time total [ms]", win_times_.total / n);
   stat.add("time total max [ms]", win_max_total_ms_);
   stat.add("time resets", time_resets_);
+  // Image stamp to the published landmarks, over the run.
+  const hapi_nodelet_kit::LatencyHistogram::Summary lat = latency_.summary();
+  stat.add("latency stamp to landmarks p50 [ms]", lat.p50 * 1e3);
+  stat.add("latency stamp to landmarks p99 [ms]", lat.p99 * 1e3);
+  stat.add("latency stamp to landmarks max [ms]", lat.max * 1e3);
   uint64_t total_rejected = 0, total_dropped = 0;
   for (const auto& kv : rejected_) total_rejected += kv.second;
   for (const auto& kv : dropped_) total_dropped += kv.second;

@@ -8,6 +8,7 @@
 #include "hapi_frontend/stereo_pipeline.hpp"
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <hapi_nodelet_kit/latency_histogram.hpp>
 #include <ros/time.h>
 
 #include <cstdint>
@@ -20,6 +21,9 @@ namespace hapi_frontend {
 class FrontendDiagnostics {
  public:
   void frameProcessed(const StereoFrameResult& result);
+  // The frame's landmarks were published `seconds` after the image was
+  // taken (ROS clock now minus the image stamp). Kept over the whole run.
+  void landmarksPublished(double seconds) { latency_.add(seconds); }
   void rejected(const std::string& reason, const std::string& detail);
   void dropped(const std::string& reason);
   void timeReset();
@@ -31,6 +35,7 @@ class FrontendDiagnostics {
   uint64_t rejectedCount(const std::string& reason) const;
 
  private:
+  hapi_nodelet_kit::LatencyHistogram latency_;  // its own lock
   mutable std::mutex mutex_;
   uint64_t processed_ = 0, time_resets_ = 0;
   std::map<std::string, uint64_t> rejected_, dropped_;

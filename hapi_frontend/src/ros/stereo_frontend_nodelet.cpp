@@ -247,6 +247,7 @@ void StereoFrontendNodelet::processFrame(const Frame& f) {
   if (!bad.empty()) return reject("internal_error", bad);
   diag_.frameProcessed(result);
   pub_.publish(msg);  // shared pointer: zero-copy to nodelets in the same manager
+  diag_.landmarksPublished((ros::Time::now() - header.stamp).toSec());
 }
 
 }  // namespace hapi_frontend

@@ -12,6 +12,7 @@
 #include "hapi_eskf/types.hpp"
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <hapi_nodelet_kit/latency_histogram.hpp>
 #include <ros/time.h>
 
 #include <array>
@@ -61,6 +62,10 @@ class NodeletStatistics {
   void recordFilterError(const std::string& what);
   // The filter stopped for good (reported as ERROR from now on).
   void recordStop(const std::string& why);
+  // A frame's correction reached the outputs `seconds` after its image was
+  // taken (ROS clock now minus the frame stamp: front end, transport and
+  // back end together). Kept over the whole run.
+  void recordLatency(double seconds) { latency_.add(seconds); }
 
   // --- diagnostics timer ---
   // Rates and per-frame means over the period since the previous call;
@@ -77,6 +82,7 @@ class NodeletStatistics {
   };
 
   const bool use_imu_;
+  hapi_nodelet_kit::LatencyHistogram latency_;  // its own lock
   std::mutex mu_;
   StageStats stages_;
   std::string last_filter_error_;
