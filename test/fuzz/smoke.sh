@@ -3,6 +3,7 @@
 # "Coverage-guided fuzzing"):
 #   smoke.sh build BUILD_DIR MSGS_INCLUDE_DIR      configure + build with clang (once per build folder)
 #   smoke.sh run BUILD_DIR TARGET SECONDS [ARGS]   fuzz TARGET for SECONDS from its seed corpus
+#   smoke.sh gtests BUILD_DIR                      the cores' gtests on the same instrumented build
 # "run" starts from test/fuzz/corpus/TARGET (the seeds and every input that
 # once crashed, kept as regression inputs) plus what earlier runs in
 # BUILD_DIR found, and fails on any crash, sanitizer report, leak, timeout
@@ -26,7 +27,27 @@ case "$MODE" in
     launcher=()
     command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
     cmake -S "$HERE" -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++-14 -DHAPI_MSGS_INCLUDE_DIR="$MSGS" "${launcher[@]}" >/dev/null
-    cmake --build "$BUILD" -j"${HAPI_JOBS:-$(nproc)}" --target landmarks_fuzzer imu_fuzzer image_pair_fuzzer compressed_fuzzer
+    cmake --build "$BUILD" -j"${HAPI_JOBS:-$(nproc)}" --target landmarks_fuzzer imu_fuzzer image_pair_fuzzer compressed_fuzzer \
+      sanitized_gtests
+    ;;
+  gtests)
+    LIST="$BUILD/sanitized_gtests.txt"
+    [ -s "$LIST" ] || { echo "smoke.sh: $LIST missing (smoke.sh build first)"; exit 77; }
+    # Any ASan/UBSan/LeakSanitizer report aborts its test (exit status != 0).
+    export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1" UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+    failed=()
+    while read -r t; do
+      [ -n "$t" ] || continue
+      start=$SECONDS
+      if "$BUILD/$t" --gtest_brief=1 >"$BUILD/$t.log" 2>&1; then
+        echo "smoke.sh: $t passed ($((SECONDS - start)) s)"
+      else
+        echo "smoke.sh: $t FAILED ($((SECONDS - start)) s):"
+        tail -n 60 "$BUILD/$t.log"
+        failed+=("$t")
+      fi
+    done <"$LIST"
+    [ ${#failed[@]} -eq 0 ] || { echo "smoke.sh: failed: ${failed[*]}"; exit 1; }
     ;;
   run)
     TARGET="${3:?usage: smoke.sh run BUILD_DIR TARGET SECONDS}"
@@ -51,7 +72,8 @@ case "$MODE" in
     exit "$status"
     ;;
   *)
-    echo "usage: smoke.sh build BUILD_DIR MSGS_INCLUDE_DIR | run BUILD_DIR TARGET SECONDS [libFuzzer args]" >&2
+    echo "usage: smoke.sh build BUILD_DIR MSGS_INCLUDE_DIR | run BUILD_DIR TARGET SECONDS [libFuzzer args]" \
+      "| gtests BUILD_DIR" >&2
     exit 2
     ;;
 esac
