@@ -3,14 +3,15 @@
 // device's measured ceilings and the floor of the C <- C - A A^T step.
 //   hapi_eskf_bench [--k 1000,2000,...] [--iters 50] [--cpu-iters 3]
 //                   [--backend cpu|cuda|both] [--precision fp64|fp32]
-//                   [--cpu-max-k 2000] [--visible 200] [--fresh 20] [--rank-reps 3]
+//                   [--cpu-max-k 2000] [--visible 200] [--fresh 20] [--rank-reps 3 (0: none)]
 //                   [--cuda-rank-update auto|syrk|gemm|recursive]
 //                   [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]
 //                   [--cpu-la blas,eigen] [--covariance-update dense,partitioned]
 //                   [--partition-max-active N] [--scenario random|sweep] [--sweep-step N]
 //                   [--no-cpu-rates]
 // CPU rows: one per --cpu-la x --covariance-update pair (cpu-blas,
-// cpu-eigen, cpu-blas-partitioned, ...), side by side in the same run, with
+// cpu-eigen, cpu-blas-partitioned, ...), CUDA rows one per --covariance-update
+// (cuda-fp64, cuda-fp64-partitioned), side by side in the same run, with
 // this machine's DGEMM/DSYRK rates measured first (cpu_ceilings.hpp).
 // --scenario: which landmarks a frame re-observes (scenario.hpp Visibility):
 // random (the visible set jumps every frame, the default) or sweep.
@@ -322,20 +323,34 @@ int main(int argc, char** argv) {
       const int n = stateDim(K, kCameraMotionDim);
       RankUpdateTiming rt;
       std::string w;
-      if (measureRankUpdate(fp32, n, 3 * o.visible, o.rank_reps, &rt, &w)) rank[K] = rt;
-      else std::printf("K=%d: isolated rank update not measured: %s\n", K, w.c_str());
-#ifdef HAPI_ESKF_BENCH_WITH_CUDA
-      std::string err;
-      auto b = cuda::makeCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, o.backend, &err);
-      if (!b) {
-        Row r;
-        r.backend = std::string("cuda-") + toString(o.backend.precision);
-        r.K = K;
-        r.note = err;
-        rows.push_back(r);
+      if (o.rank_reps <= 0) {
+        // --rank-reps 0: no isolated rank update (it needs a second n x n buffer)
+      } else if (measureRankUpdate(fp32, n, 3 * o.visible, o.rank_reps, &rt, &w)) {
+        rank[K] = rt;
       } else {
-        const std::string name = b->name();  // before the move (argument order is unspecified)
-        rows.push_back(run(name, std::move(b), K, o.iters, o.warmup, o));
+        std::printf("K=%d: isolated rank update not measured: %s\n", K, w.c_str());
+      }
+#ifdef HAPI_ESKF_BENCH_WITH_CUDA
+      // One row per --covariance-update (the partitioned one FP64 only).
+      for (CovarianceUpdate cu : o.cov_update) {
+        std::string err;
+        EskfSettings s = o.backend;
+        s.covariance_update = cu;
+        s.partition_max_active = o.partition_max_active;
+        auto b = cu == CovarianceUpdate::kPartitioned
+                     ? cuda::makePartitionedCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, s, &err)
+                     : cuda::makeCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, s, &err);
+        if (!b) {
+          Row r;
+          r.backend = std::string("cuda-") + toString(o.backend.precision) +
+                      (cu == CovarianceUpdate::kPartitioned ? "-partitioned" : "");
+          r.K = K;
+          r.note = err;
+          rows.push_back(r);
+        } else {
+          const std::string name = b->name();  // before the move (argument order is unspecified)
+          rows.push_back(run(name, std::move(b), K, o.iters, o.warmup, o));
+        }
       }
 #endif
     }

@@ -166,8 +166,16 @@ std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_l
 // as makeCpuBackend's; nullptr on bad sizes (max_active < 1 too).
 std::unique_ptr<CovarianceBackend> makePartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim,
                                                              CpuLinearAlgebra la, int max_active);
-// Flushes done so far by a partitioned backend and their wall time [s] (for
-// the benchmark); false for any other backend.
+// Flush accounting of the partitioned backends (CPU and CUDA), read through
+// partitionedFlushStats.
+class PartitionedFlushCounter {
+ public:
+  virtual ~PartitionedFlushCounter() = default;
+  virtual int flushes() const = 0;
+  virtual double flushSeconds() const = 0;
+};
+// Flushes done so far by a partitioned backend (CPU or CUDA) and their wall
+// time [s] (for the benchmark); false for any other backend.
 bool partitionedFlushStats(const CovarianceBackend& b, int* flushes, double* seconds);
 
 // The backend named in settings, with the pose block of its motion_model;

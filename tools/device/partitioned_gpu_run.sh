@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# One device call for the partitioned CUDA update (docs/DESIGN.md
+# "Partitioned update"): build the ROS-free core, run every hapi_eskf test
+# (GPU tests included), then the benchmark, FP64, dense against partitioned
+# in the same run: the sweep scenario (the view advances 10 of 200 visible
+# landmarks per frame) and the worst case (the visible set jumps every
+# frame), at K = 8000 and 32000, then K = 45000. Logs go to $OUT (or
+# ./device-out); the tables are printed at the end.
+#   tools/device/partitioned_gpu_run.sh          (carry .device, see prepare.sh)
+set -uo pipefail
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+OUT="${OUT:-$REPO/device-out}"
+mkdir -p "$OUT"
+B="$REPO/build-device"
+nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm,power.limit --format=csv | tee "$OUT/device.txt"
+bash "$REPO/tools/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
+echo "build ok"
+(cd "$B" && ctest -j4 --timeout 400 --output-on-failure 2>&1) >"$OUT/ctest.log"
+grep -E "tests passed|Failed|\*\*\*|Passed.*partitioned" "$OUT/ctest.log" | tail -25
+BENCH="$B/hapi_eskf/bench/hapi_eskf_bench"
+COMMON=(--backend cuda --covariance-update dense,partitioned --rank-reps 0)
+"$BENCH" "${COMMON[@]}" --scenario sweep --k 8000,32000 --iters 60 >"$OUT/bench_sweep.log" 2>&1
+"$BENCH" "${COMMON[@]}" --scenario random --k 8000,32000 --iters 20 >"$OUT/bench_random.log" 2>&1
+"$BENCH" "${COMMON[@]}" --scenario sweep --k 45000 --iters 40 >"$OUT/bench_45000.log" 2>&1
+"$BENCH" "${COMMON[@]}" --scenario random --k 45000 --iters 8 >>"$OUT/bench_45000.log" 2>&1
+nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw,clocks_event_reasons.active --format=csv,noheader \
+  | tee -a "$OUT/device.txt"
+for f in bench_sweep bench_random bench_45000; do
+  echo "=== $f"
+  grep -E "^scenario|^device|^ceilings|^\| (backend|cuda)" "$OUT/$f.log"
+done
