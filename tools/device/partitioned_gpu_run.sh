@@ -15,16 +15,20 @@ B="$REPO/build-device"
 nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm,power.limit --format=csv | tee "$OUT/device.txt"
 bash "$REPO/tools/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
 echo "build ok"
-(cd "$B" && ctest -j4 --timeout 400 --output-on-failure 2>&1) >"$OUT/ctest.log"
-grep -E "tests passed|Failed|\*\*\*|Passed.*partitioned" "$OUT/ctest.log" | tail -25
+# The partitioned tests first (GPU and CPU), the rest after the benchmark.
+FIRST="cuda_partitioned|cpu_backend_variants|partitioned_filter"
+(cd "$B" && ctest -R "$FIRST" --timeout 400 --output-on-failure 2>&1) >"$OUT/ctest.log"
+grep -E "tests passed|Failed|\*\*\*|FAILED|Test +#" "$OUT/ctest.log" | tail -12
 BENCH="$B/hapi_eskf/bench/hapi_eskf_bench"
 COMMON=(--backend cuda --covariance-update dense,partitioned --rank-reps 0)
-"$BENCH" "${COMMON[@]}" --scenario sweep --k 8000,32000 --iters 60 >"$OUT/bench_sweep.log" 2>&1
-"$BENCH" "${COMMON[@]}" --scenario random --k 8000,32000 --iters 20 >"$OUT/bench_random.log" 2>&1
-"$BENCH" "${COMMON[@]}" --scenario sweep --k 45000 --iters 40 >"$OUT/bench_45000.log" 2>&1
-"$BENCH" "${COMMON[@]}" --scenario random --k 45000 --iters 8 >>"$OUT/bench_45000.log" 2>&1
+timeout 240 "$BENCH" "${COMMON[@]}" --scenario sweep --k 8000,32000 --iters 60 >"$OUT/bench_sweep.log" 2>&1
+timeout 240 "$BENCH" "${COMMON[@]}" --scenario random --k 8000,32000 --iters 20 >"$OUT/bench_random.log" 2>&1
+timeout 240 "$BENCH" "${COMMON[@]}" --scenario sweep --k 45000 --iters 40 >"$OUT/bench_45000.log" 2>&1
+timeout 240 "$BENCH" "${COMMON[@]}" --scenario random --k 45000 --iters 8 >>"$OUT/bench_45000.log" 2>&1
 nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw,clocks_event_reasons.active --format=csv,noheader \
   | tee -a "$OUT/device.txt"
+(cd "$B" && ctest -E "$FIRST" -j4 --timeout 400 --output-on-failure 2>&1) >>"$OUT/ctest.log"
+grep -E "tests passed|\*\*\*|FAILED" "$OUT/ctest.log" | tail -12
 for f in bench_sweep bench_random bench_45000; do
   echo "=== $f"
   grep -E "^scenario|^device|^ceilings|^\| (backend|cuda)" "$OUT/$f.log"
