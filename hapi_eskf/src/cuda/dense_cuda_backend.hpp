@@ -413,6 +413,10 @@ class CudaBackend final : public CovarianceBackend {
   cusolverDnHandle_t solver() const { return solver_; }
   T* covariance() const { return C_.get(); }
   std::size_t ld() const { return ld_; }
+  // The update workspace (ld x at least 3 columns), free between calls: the
+  // partitioned backend's flush borrows it instead of allocating its own.
+  T* workspace() const { return work_.get(); }
+  std::size_t workspaceCount() const { return work_.count(); }
 
  private:
   int n() const { return stateDim(K_, poseDim()); }

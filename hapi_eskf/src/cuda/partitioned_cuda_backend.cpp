@@ -49,7 +49,14 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   // indices, and an epoch on the (zero) stored C.
   bool init(std::string* why) {
     const int P = poseDim();
-    const int cap = P + 3 * std::min(std::max(dense_->capacity(), 1), max_active_ + 64);
+    int cap = P + 3 * std::min(std::max(dense_->capacity(), 1), max_active_ + 64);
+    // X takes cap x ld doubles: at most what the device has free beside a
+    // reserve of 512 MiB for the small buffers (it grows later if it can).
+    std::size_t free_b = 0, total_b = 0;
+    if (failed(cudaMemGetInfo(&free_b, &total_b), "cudaMemGetInfo", why)) return false;
+    const std::size_t reserve = std::size_t(512) << 20;
+    const long long fit = free_b > reserve ? static_cast<long long>((free_b - reserve) / (ld_ * sizeof(double))) : 0;
+    cap = static_cast<int>(std::max<long long>(std::min<long long>(cap, fit), P + 3));
     if (growActive(cap, cap, why) != Status::kOk) return false;
     std::vector<int> pose(P);
     for (int i = 0; i < P; ++i) pose[i] = i;
@@ -514,8 +521,14 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     const int ldc = static_cast<int>(ld_);
     const int panel = std::min(defaultPanel(n), std::max(n, 1));
     constexpr int kChunk = 128;  // active rows written back per pass
-    HAPI_CUDA_TRY(flush_.ensure(std::max(static_cast<std::size_t>(panel) * a0, static_cast<std::size_t>(n) * kChunk)));
-    double* T = flush_.get();
+    // Scratch: the dense backend's update workspace (idle between calls),
+    // or an own buffer where that is too small.
+    const std::size_t need = std::max(static_cast<std::size_t>(panel) * a0, static_cast<std::size_t>(n) * kChunk);
+    double* T = dense_->workspace();
+    if (need > dense_->workspaceCount()) {
+      HAPI_CUDA_TRY(flush_.ensure(need));
+      T = flush_.get();
+    }
     if (updated_in_epoch_) {
       for (int i0 = 0; i0 < n; i0 += panel) {
         const int b = std::min(panel, n - i0);
@@ -596,7 +609,8 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   std::size_t ca_ = 0, cb_ = 0;  // their capacities (growActive)
   DeviceBuffer<double> Caa_, Phi_, Psi_, X_;
   DeviceBuffer<int> pose_idx_;   // 0 .. P-1
-  // Scratch: the flush's panel / write-back chunk; update operands
+  // Scratch: the flush's panel / write-back chunk where the dense
+  // workspace is too small; update operands
   // (H_A^T, P_A, S, V, vectors); host-visible small results.
   DeviceBuffer<double> flush_, Ht_, S_, V_, vec_, H_, pose_mats_;
   mutable DeviceBuffer<double> PA_, small_;
@@ -623,7 +637,12 @@ std::unique_ptr<CovarianceBackend> makePartitionedCudaBackend(int capacity, int 
     *err = "partition_max_active must be >= 1";
     return nullptr;
   }
-  std::unique_ptr<CovarianceBackend> base = makeCudaBackend(capacity, descriptor_length, pose_dim, s, err);
+  // The dense update of a view jump forms A = P L^-T in place (TRSM) unless
+  // the settings fix the solve: trtri + GEMM would need a second n x 3L
+  // workspace, memory that X needs beside the largest pools.
+  EskfSettings sd = s;
+  if (sd.cuda_solve == CudaSolve::kAuto) sd.cuda_solve = CudaSolve::kTrsm;
+  std::unique_ptr<CovarianceBackend> base = makeCudaBackend(capacity, descriptor_length, pose_dim, sd, err);
   if (!base) return nullptr;
   std::unique_ptr<Dense> dense(static_cast<Dense*>(base.release()));  // fp64: a CudaBackend<double>
   auto b = std::make_unique<PartitionedCudaBackend>(std::move(dense), s.partition_max_active);
