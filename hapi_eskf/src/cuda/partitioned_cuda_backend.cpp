@@ -49,15 +49,16 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   // indices, and an epoch on the (zero) stored C.
   bool init(std::string* why) {
     const int P = poseDim();
-    int cap = P + 3 * std::min(std::max(dense_->capacity(), 1), max_active_ + 64);
-    // X takes cap x ld doubles: at most what the device has free beside a
-    // reserve of 512 MiB for the small buffers (it grows later if it can).
+    const int cap = P + 3 * std::min(std::max(dense_->capacity(), 1), max_active_ + 64);
+    // X takes ld doubles per basis column: at most what the device has free
+    // beside a reserve of 512 MiB for the small buffers (it grows later if
+    // it can).
     std::size_t free_b = 0, total_b = 0;
     if (failed(cudaMemGetInfo(&free_b, &total_b), "cudaMemGetInfo", why)) return false;
     const std::size_t reserve = std::size_t(512) << 20;
     const long long fit = free_b > reserve ? static_cast<long long>((free_b - reserve) / (ld_ * sizeof(double))) : 0;
-    cap = static_cast<int>(std::max<long long>(std::min<long long>(cap, fit), P + 3));
-    if (growActive(cap, cap, why) != Status::kOk) return false;
+    const int cap_b = static_cast<int>(std::max<long long>(std::min<long long>(cap, fit), P + 3));
+    if (growActive(cap, cap_b, why) != Status::kOk) return false;
     std::vector<int> pose(P);
     for (int i = 0; i < P; ++i) pose[i] = i;
     if (failed(pose_idx_.ensure(P), "cudaMalloc(pose indices)", why) ||
@@ -174,12 +175,17 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
       double* Cb = PA_.get();
       double* CbPsi = Cb + static_cast<std::size_t>(m3) * a0;
       HAPI_CUDA_TRY(launchGatherRows(X_.get(), ld_, d_rows, m3, a0, Cb, m3, stream_));
-      HAPI_CUDA_TRY(Blas<double>::symmRight(blas_, m3, a0, 1.0, Psi_.get(), static_cast<int>(cb_), Cb, m3, 0.0, CbPsi,
-                                            m3));
       HAPI_CUDA_TRY(Blas<double>::gemm(blas_, false, true, m3, 6, a0, 1.0, Cb, m3, Phi_.get(), static_cast<int>(ca_),
                                        0.0, small_.get() + o_phi, m3));
-      HAPI_CUDA_TRY(Blas<double>::gemmNTBatched(blas_, 3, 3, a0, CbPsi, m3, 3, Cb, m3, 3, small_.get() + o_d, 3, 9,
-                                                np));
+      if (updated_in_epoch_) {  // else Psi = 0 and so is c_j^T Psi c_j
+        HAPI_CUDA_TRY(Blas<double>::symmRight(blas_, m3, a0, 1.0, Psi_.get(), static_cast<int>(cb_), Cb, m3, 0.0,
+                                              CbPsi, m3));
+        HAPI_CUDA_TRY(Blas<double>::gemmNTBatched(blas_, 3, 3, a0, CbPsi, m3, 3, Cb, m3, 3, small_.get() + o_d, 3, 9,
+                                                  np));
+      } else {
+        HAPI_CUDA_TRY(cudaMemsetAsync(small_.get() + o_d, 0, 9 * static_cast<std::size_t>(np) * sizeof(double),
+                                      stream_));
+      }
     }
     std::vector<double> h(total);
     HAPI_CUDA_TRY(cudaMemcpyAsync(h.data(), small_.get(), total * sizeof(double), cudaMemcpyDeviceToHost, stream_));
@@ -401,40 +407,37 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   }
 
   // Capacities of the active blocks (rows of Caa and Phi: ca_; columns of
-  // Phi, Psi and X: cb_), grown by a quarter again (X is n rows tall: the
-  // largest pools leave little memory beside C), contents kept, the rest zero.
+  // Phi, Psi and X: cb_), grown by a quarter again, contents kept, the rest
+  // zero. Only the buffers whose capacity changes are reallocated: X is n
+  // rows tall, and beside the largest pools there is no room for two.
   Status growActive(int a_need, int a0_need, std::string* why) {
-    if (a_need <= static_cast<int>(ca_) && a0_need <= static_cast<int>(cb_)) return Status::kOk;
-    const int extra = ca_ == 0 ? 0 : 4;  // the first allocation is exact
-    auto grown = [extra](int need) { return static_cast<std::size_t>(need + (extra ? need / extra : 0)); };
-    const std::size_t ca = a_need <= static_cast<int>(ca_) ? ca_ : grown(a_need);
-    const std::size_t cb = a0_need <= static_cast<int>(cb_) ? cb_ : grown(a0_need);
-    DeviceBuffer<double> caa, phi, psi, x;
+    const bool grow_a = a_need > static_cast<int>(ca_), grow_b = a0_need > static_cast<int>(cb_);
+    if (!grow_a && !grow_b) return Status::kOk;
+    const bool first = ca_ == 0;  // the first allocation is exact
+    auto grown = [first](int need) { return static_cast<std::size_t>(need + (first ? 0 : need / 4)); };
+    const std::size_t ca = grow_a ? grown(a_need) : ca_, cb = grow_b ? grown(a0_need) : cb_;
     const std::size_t d = sizeof(double);
-    if (failed(caa.ensure(ca * ca), "cudaMalloc(Caa)", why) || failed(phi.ensure(ca * cb), "cudaMalloc(Phi)", why) ||
-        failed(psi.ensure(cb * cb), "cudaMalloc(Psi)", why) || failed(x.ensure(ld_ * cb), "cudaMalloc(X)", why) ||
-        failed(cudaMemsetAsync(caa.get(), 0, caa.bytes(), stream_), "cudaMemset(Caa)", why) ||
-        failed(cudaMemsetAsync(phi.get(), 0, phi.bytes(), stream_), "cudaMemset(Phi)", why) ||
-        failed(cudaMemsetAsync(psi.get(), 0, psi.bytes(), stream_), "cudaMemset(Psi)", why))
+    // A new zeroed rows x cols buffer (leading dim ld) holding the old
+    // used_rows x used_cols block of *buf (leading dim old_ld).
+    auto regrow = [&](DeviceBuffer<double>* buf, std::size_t ld, std::size_t cols, std::size_t old_ld, int used_rows,
+                      int used_cols, const char* what) {
+      DeviceBuffer<double> fresh;
+      if (failed(fresh.ensure(ld * cols), what, why) ||
+          failed(cudaMemsetAsync(fresh.get(), 0, fresh.bytes(), stream_), what, why))
+        return false;
+      if (used_rows > 0 && used_cols > 0 &&
+          failed(cudaMemcpy2DAsync(fresh.get(), ld * d, buf->get(), old_ld * d, used_rows * d, used_cols,
+                                   cudaMemcpyDeviceToDevice, stream_),
+                 what, why))
+        return false;
+      if (failed(cudaStreamSynchronize(stream_), what, why)) return false;
+      buf->swap(fresh);  // the old buffer is freed here
+      return true;
+    };
+    if (grow_a && !regrow(&Caa_, ca, ca, ca_, a_, a_, "Caa")) return Status::kBackendError;
+    if (!regrow(&Phi_, ca, cb, ca_, a_, a0_, "Phi")) return Status::kBackendError;
+    if (grow_b && (!regrow(&Psi_, cb, cb, cb_, a0_, a0_, "Psi") || !regrow(&X_, ld_, cb, ld_, dim(), a0_, "X")))
       return Status::kBackendError;
-    if (a_ > 0 &&
-        (failed(cudaMemcpy2DAsync(caa.get(), ca * d, Caa_.get(), ca_ * d, a_ * d, a_, cudaMemcpyDeviceToDevice,
-                                  stream_),
-                "cudaMemcpy2D(Caa)", why) ||
-         failed(cudaMemcpy2DAsync(phi.get(), ca * d, Phi_.get(), ca_ * d, a_ * d, a0_, cudaMemcpyDeviceToDevice,
-                                  stream_),
-                "cudaMemcpy2D(Phi)", why) ||
-         failed(cudaMemcpy2DAsync(psi.get(), cb * d, Psi_.get(), cb_ * d, a0_ * d, a0_, cudaMemcpyDeviceToDevice,
-                                  stream_),
-                "cudaMemcpy2D(Psi)", why) ||
-         failed(cudaMemcpyAsync(x.get(), X_.get(), ld_ * a0_ * d, cudaMemcpyDeviceToDevice, stream_),
-                "cudaMemcpy(X)", why)))
-      return Status::kBackendError;
-    if (failed(cudaStreamSynchronize(stream_), "cudaStreamSynchronize", why)) return Status::kBackendError;
-    Caa_.swap(caa);
-    Phi_.swap(phi);
-    Psi_.swap(psi);
-    X_.swap(x);
     ca_ = ca;
     cb_ = cb;
     return Status::kOk;
@@ -482,9 +485,11 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     if (st != Status::kOk) return st;
     const int lda = static_cast<int>(ca_);
     double* phi_j = Phi_.get() + a;  // rows a.. of Phi
-    HAPI_CUDA_TRY(Blas<double>::symmRight(blas_, nj, a0, -1.0, Psi_.get(), static_cast<int>(cb_), cJ, nj, 0.0, phi_j,
-                                          lda));
-    HAPI_CUDA_TRY(Blas<double>::gemm(blas_, false, true, nj, nj, a0, 1.0, phi_j, lda, cJ, nj, 1.0, CJJ, nj));
+    if (updated_in_epoch_) {  // else Psi = 0: Phi's new rows stay zero left of I (resizeActive), C_JJ = C^0_JJ
+      HAPI_CUDA_TRY(Blas<double>::symmRight(blas_, nj, a0, -1.0, Psi_.get(), static_cast<int>(cb_), cJ, nj, 0.0,
+                                            phi_j, lda));
+      HAPI_CUDA_TRY(Blas<double>::gemm(blas_, false, true, nj, nj, a0, 1.0, phi_j, lda, cJ, nj, 1.0, CJJ, nj));
+    }
     HAPI_CUDA_TRY(Blas<double>::gemm(blas_, false, true, nj, a, a0, 1.0, cJ, nj, Phi_.get(), lda, 0.0,
                                      Caa_.get() + a, lda));
     HAPI_CUDA_TRY(cudaMemcpy2DAsync(Caa_.get() + a + static_cast<std::size_t>(a) * ca_, ca_ * sizeof(double), CJJ,
