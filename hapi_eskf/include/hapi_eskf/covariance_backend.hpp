@@ -2,7 +2,7 @@
 // covariance C (n x n, n = P + 3K, P the motion model's pose block) and the landmark descriptors. Two
 // implementations: the CPU (OpenBLAS or Eigen; dense or partitioned update,
 // docs/DESIGN.md "Partitioned update"; the reference, CI) and CUDA (C resident on the
-// GPU, cuBLAS/cuSOLVER + own kernels). The nominal state and all O(1)-per-
+// GPU, cuBLAS/cuSOLVER + own kernels; dense, or partitioned in FP64). The nominal state and all O(1)-per-
 // landmark algebra (Jacobians, innovations, injection) stay in Eskf on the host.
 //
 // Storage contract shared by both backends (and relied on by the tests):
