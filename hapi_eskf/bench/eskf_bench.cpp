@@ -3,14 +3,15 @@
 // device's measured ceilings and the floor of the C <- C - A A^T step.
 //   hapi_eskf_bench [--k 1000,2000,...] [--iters 50] [--cpu-iters 3]
 //                   [--backend cpu|cuda|both] [--precision fp64|fp32]
-//                   [--cpu-max-k 2000] [--visible 200] [--fresh 20] [--rank-reps 3]
+//                   [--cpu-max-k 2000] [--visible 200] [--fresh 20] [--rank-reps 3 (0: none)]
 //                   [--cuda-rank-update auto|syrk|gemm|recursive]
 //                   [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]
 //                   [--cpu-la blas,eigen] [--covariance-update dense,partitioned]
 //                   [--partition-max-active N] [--scenario random|sweep] [--sweep-step N]
 //                   [--no-cpu-rates]
 // CPU rows: one per --cpu-la x --covariance-update pair (cpu-blas,
-// cpu-eigen, cpu-blas-partitioned, ...), side by side in the same run, with
+// cpu-eigen, cpu-blas-partitioned, ...), CUDA rows one per --covariance-update
+// (cuda-fp64, cuda-fp64-partitioned), side by side in the same run, with
 // this machine's DGEMM/DSYRK rates measured first (cpu_ceilings.hpp).
 // --scenario: which landmarks a frame re-observes (scenario.hpp Visibility):
 // random (the visible set jumps every frame, the default) or sweep.
@@ -181,9 +182,10 @@ struct Row {
   double mem_gb = 0;
   double moved = 0;  // landmarks moved into freed slots per removal (median)
   int n_updated = 0;
-  double total_p99 = 0, total_max = 0;
+  double total_p99 = 0, total_max = 0, total_mean = 0;  // mean: the amortised cost
   int flushes = 0;         // partitioned: flushes in the measured iterations
   double flush_ms = 0;     // their mean time
+  double flush_max_ms = 0; // the largest flush time of one iteration
   // Medians of the update's device stages (--cuda-stage-times, CUDA rows).
   std::vector<double> stages;
 };
@@ -203,7 +205,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   }
   Scenario sc(std::move(b), K, o.visible, o.fresh, 1234u + K, o.visibility, o.sweep_step);
   if (!sc.fill()) {
-    r.note = "filling the pool failed";
+    r.note = "filling the pool failed: " + sc.backend().lastError();
     return r;
   }
   r.note.clear();
@@ -234,6 +236,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
     mv.push_back(t.removal_moved_landmarks);
     r.flushes += t.flushes;
     if (t.flushes > 0) fl.push_back(t.flush_ms / t.flushes);
+    r.flush_max_ms = std::max(r.flush_max_ms, t.flush_ms);
   }
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
   for (const cuda::UpdateStageTimes& u : cuda::takeUpdateStageTimes()) {
@@ -255,6 +258,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   r.total = median(to);
   r.total_p99 = quantile(to, 0.99);
   r.total_max = to.empty() ? 0.0 : *std::max_element(to.begin(), to.end());
+  for (double v : to) r.total_mean += v / to.size();
   double fsum = 0;
   for (double f : fl) fsum += f;
   r.flush_ms = fl.empty() ? 0.0 : fsum / fl.size();
@@ -322,20 +326,34 @@ int main(int argc, char** argv) {
       const int n = stateDim(K, kCameraMotionDim);
       RankUpdateTiming rt;
       std::string w;
-      if (measureRankUpdate(fp32, n, 3 * o.visible, o.rank_reps, &rt, &w)) rank[K] = rt;
-      else std::printf("K=%d: isolated rank update not measured: %s\n", K, w.c_str());
-#ifdef HAPI_ESKF_BENCH_WITH_CUDA
-      std::string err;
-      auto b = cuda::makeCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, o.backend, &err);
-      if (!b) {
-        Row r;
-        r.backend = std::string("cuda-") + toString(o.backend.precision);
-        r.K = K;
-        r.note = err;
-        rows.push_back(r);
+      if (o.rank_reps <= 0) {
+        // --rank-reps 0: no isolated rank update (it needs a second n x n buffer)
+      } else if (measureRankUpdate(fp32, n, 3 * o.visible, o.rank_reps, &rt, &w)) {
+        rank[K] = rt;
       } else {
-        const std::string name = b->name();  // before the move (argument order is unspecified)
-        rows.push_back(run(name, std::move(b), K, o.iters, o.warmup, o));
+        std::printf("K=%d: isolated rank update not measured: %s\n", K, w.c_str());
+      }
+#ifdef HAPI_ESKF_BENCH_WITH_CUDA
+      // One row per --covariance-update (the partitioned one FP64 only).
+      for (CovarianceUpdate cu : o.cov_update) {
+        std::string err;
+        EskfSettings s = o.backend;
+        s.covariance_update = cu;
+        s.partition_max_active = o.partition_max_active;
+        auto b = cu == CovarianceUpdate::kPartitioned
+                     ? cuda::makePartitionedCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, s, &err)
+                     : cuda::makeCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, s, &err);
+        if (!b) {
+          Row r;
+          r.backend = std::string("cuda-") + toString(o.backend.precision) +
+                      (cu == CovarianceUpdate::kPartitioned ? "-partitioned" : "");
+          r.K = K;
+          r.note = err;
+          rows.push_back(r);
+        } else {
+          const std::string name = b->name();  // before the move (argument order is unspecified)
+          rows.push_back(run(name, std::move(b), K, o.iters, o.warmup, o));
+        }
       }
 #endif
     }
@@ -354,16 +372,18 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\n| backend | K | iters | association | removal | addition | predict | update | total | bookkeeping "
-              "(rem+add) | memory GB | L used | moved per removal | total p99 | total max | flushes | ms per flush |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "(rem+add) | memory GB | L used | moved per removal | total p99 | total max | total mean | flushes | ms per flush "
+              "| flush max ms |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     if (!r.ok) {
       std::printf("| %s | %d | - | %s |\n", r.backend.c_str(), r.K, r.note.c_str());
       continue;
     }
-    std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d | %.0f | %.3f | %.3f | %d | %.3f |\n",
+    std::printf("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %d | %.0f | %.3f | %.3f | %.3f "
+                "| %d | %.3f | %.3f |\n",
                 r.backend.c_str(), r.K, r.iters, r.assoc, r.removal, r.addition, r.predict, r.update, r.total,
-                r.bookkeeping, r.mem_gb, r.n_updated, r.moved, r.total_p99, r.total_max, r.flushes, r.flush_ms);
+                r.bookkeeping, r.mem_gb, r.n_updated, r.moved, r.total_p99, r.total_max, r.total_mean, r.flushes,
+                r.flush_ms, r.flush_max_ms);
   }
 
   // CPU variants side by side (same run): each against the first CPU row of

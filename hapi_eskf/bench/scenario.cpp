@@ -67,7 +67,10 @@ bool Scenario::fill() {
   std::normal_distribution<double> lat(0.0, 2.0);
   std::uniform_real_distribution<double> depth(2.0, 10.0);
   while (static_cast<int>(positions_.size()) < K_) {
-    const int m = std::min(2000, K_ - static_cast<int>(positions_.size()));
+    // Batches of at most 200 (a frame's worth): a partitioned backend's
+    // active blocks stay sized for frames (the landmarks drawn do not depend
+    // on the batch size).
+    const int m = std::min(200, K_ - static_cast<int>(positions_.size()));
     std::vector<std::vector<uint8_t>> d(m);
     std::vector<NewLandmarkBlock> blocks(m);
     for (int i = 0; i < m; ++i) {

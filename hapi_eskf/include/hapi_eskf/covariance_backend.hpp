@@ -2,7 +2,7 @@
 // covariance C (n x n, n = P + 3K, P the motion model's pose block) and the landmark descriptors. Two
 // implementations: the CPU (OpenBLAS or Eigen; dense or partitioned update,
 // docs/DESIGN.md "Partitioned update"; the reference, CI) and CUDA (C resident on the
-// GPU, cuBLAS/cuSOLVER + own kernels). The nominal state and all O(1)-per-
+// GPU, cuBLAS/cuSOLVER + own kernels; dense, or partitioned in FP64). The nominal state and all O(1)-per-
 // landmark algebra (Jacobians, innovations, injection) stay in Eskf on the host.
 //
 // Storage contract shared by both backends (and relied on by the tests):
@@ -166,8 +166,16 @@ std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_l
 // as makeCpuBackend's; nullptr on bad sizes (max_active < 1 too).
 std::unique_ptr<CovarianceBackend> makePartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim,
                                                              CpuLinearAlgebra la, int max_active);
-// Flushes done so far by a partitioned backend and their wall time [s] (for
-// the benchmark); false for any other backend.
+// Flush accounting of the partitioned backends (CPU and CUDA), read through
+// partitionedFlushStats.
+class PartitionedFlushCounter {
+ public:
+  virtual ~PartitionedFlushCounter() = default;
+  virtual int flushes() const = 0;
+  virtual double flushSeconds() const = 0;
+};
+// Flushes done so far by a partitioned backend (CPU or CUDA) and their wall
+// time [s] (for the benchmark); false for any other backend.
 bool partitionedFlushStats(const CovarianceBackend& b, int* flushes, double* seconds);
 
 // The backend named in settings, with the pose block of its motion_model;

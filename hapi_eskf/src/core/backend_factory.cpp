@@ -53,13 +53,11 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
                                        s.cpu_linear_algebra, s.partition_max_active);
     return makeCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s.cpu_linear_algebra);
   }
-  if (s.covariance_update != CovarianceUpdate::kDense) {
-    if (error) *error = "covariance_update partitioned is implemented on the cpu backend only";
-    return nullptr;
-  }
 #ifdef HAPI_ESKF_WITH_CUDA
   std::string err;
-  auto b = cuda::makeCudaBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s, &err);
+  auto b = s.covariance_update == CovarianceUpdate::kPartitioned
+               ? cuda::makePartitionedCudaBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s, &err)
+               : cuda::makeCudaBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s, &err);
   if (!b && error) *error = err.empty() ? std::string("cuda backend creation failed") : err;
   return b;
 #else

@@ -32,7 +32,7 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-class PartitionedCpuBackend final : public CovarianceBackend {
+class PartitionedCpuBackend final : public CovarianceBackend, public PartitionedFlushCounter {
  public:
   PartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim, CpuLinearAlgebra la, int max_active)
       : CovarianceBackend(pose_dim),
@@ -78,8 +78,8 @@ class PartitionedCpuBackend final : public CovarianceBackend {
   }
 
   // Flush count and time, for the benchmark (partitionedFlushStats).
-  int flushes() const { return flushes_; }
-  double flushSeconds() const { return flush_seconds_; }
+  int flushes() const override { return flushes_; }
+  double flushSeconds() const override { return flush_seconds_; }
   int activeLandmarks() const { return static_cast<int>(active_.size()); }
 
  protected:
@@ -458,7 +458,7 @@ class PartitionedCpuBackend final : public CovarianceBackend {
 }  // namespace
 
 bool partitionedFlushStats(const CovarianceBackend& b, int* flushes, double* seconds) {
-  const auto* p = dynamic_cast<const PartitionedCpuBackend*>(&b);
+  const auto* p = dynamic_cast<const PartitionedFlushCounter*>(&b);
   if (!p) return false;
   if (flushes) *flushes = p->flushes();
   if (seconds) *seconds = p->flushSeconds();

@@ -48,6 +48,52 @@ struct Blas<double> {
                                 int* info) {
     return cusolverDnDpotrf(h, CUBLAS_FILL_MODE_LOWER, n, A, lda, work, lwork, info);
   }
+  // FP64 only: the products of the partitioned backend (partitioned_cuda_backend.cpp).
+  // C = alpha op(A) op(B) + beta C.
+  static cublasStatus_t gemm(cublasHandle_t h, bool trans_a, bool trans_b, int m, int n, int k, double alpha,
+                             const double* A, int lda, const double* B, int ldb, double beta, double* C, int ldc) {
+    return cublasDgemm(h, trans_a ? CUBLAS_OP_T : CUBLAS_OP_N, trans_b ? CUBLAS_OP_T : CUBLAS_OP_N, m, n, k, &alpha,
+                       A, lda, B, ldb, &beta, C, ldc);
+  }
+  // C = alpha B S + beta C, S symmetric n x n read from its lower triangle, B m x n.
+  static cublasStatus_t symmRight(cublasHandle_t h, int m, int n, double alpha, const double* S, int lds,
+                                  const double* B, int ldb, double beta, double* C, int ldc) {
+    return cublasDsymm(h, CUBLAS_SIDE_RIGHT, CUBLAS_FILL_MODE_LOWER, m, n, &alpha, S, lds, B, ldb, &beta, C, ldc);
+  }
+  // C = alpha S B + beta C, S symmetric m x m read from its lower triangle, B m x n.
+  static cublasStatus_t symmLeft(cublasHandle_t h, int m, int n, double alpha, const double* S, int lds,
+                                 const double* B, int ldb, double beta, double* C, int ldc) {
+    return cublasDsymm(h, CUBLAS_SIDE_LEFT, CUBLAS_FILL_MODE_LOWER, m, n, &alpha, S, lds, B, ldb, &beta, C, ldc);
+  }
+  // lower(C) = alpha A^T A + beta C, A k x n.
+  static cublasStatus_t syrkT(cublasHandle_t h, int n, int k, double alpha, const double* A, int lda, double beta,
+                              double* C, int ldc) {
+    return cublasDsyrk(h, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_T, n, k, &alpha, A, lda, &beta, C, ldc);
+  }
+  // lower(C) = alpha A B^T + beta C where A B^T is symmetric (A, B n x k).
+  static cublasStatus_t syrkx(cublasHandle_t h, int n, int k, double alpha, const double* A, int lda,
+                              const double* B, int ldb, double beta, double* C, int ldc) {
+    return cublasDsyrkx(h, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_N, n, k, &alpha, A, lda, B, ldb, &beta, C, ldc);
+  }
+  // B <- L^-1 B (L lower m x m, B m x n).
+  static cublasStatus_t trsmLeftLower(cublasHandle_t h, int m, int n, const double* L, int ldl, double* B, int ldb) {
+    const double one = 1.0;
+    return cublasDtrsm(h, CUBLAS_SIDE_LEFT, CUBLAS_FILL_MODE_LOWER, CUBLAS_OP_N, CUBLAS_DIAG_NON_UNIT, m, n, &one, L,
+                       ldl, B, ldb);
+  }
+  // y = A^T x (A m x n).
+  static cublasStatus_t gemvT(cublasHandle_t h, int m, int n, const double* A, int lda, const double* x, double* y) {
+    const double one = 1.0, zero = 0.0;
+    return cublasDgemv(h, CUBLAS_OP_T, m, n, &one, A, lda, x, 1, &zero, y, 1);
+  }
+  // C_i = A_i B_i^T for `count` blocks at fixed strides (A_i m x k, B_i n x k).
+  static cublasStatus_t gemmNTBatched(cublasHandle_t h, int m, int n, int k, const double* A, int lda,
+                                      long long stride_a, const double* B, int ldb, long long stride_b, double* C,
+                                      int ldc, long long stride_c, int count) {
+    const double one = 1.0, zero = 0.0;
+    return cublasDgemmStridedBatched(h, CUBLAS_OP_N, CUBLAS_OP_T, m, n, k, &one, A, lda, stride_a, B, ldb, stride_b,
+                                     &zero, C, ldc, stride_c, count);
+  }
 };
 
 template <>

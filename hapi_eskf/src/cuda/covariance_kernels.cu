@@ -1,21 +1,13 @@
 // Own kernels of the update, predict and read-back paths (docs/DESIGN.md "CUDA backend").
 // All of them touch O(n) or O(m^2) elements; the O(n^2 m) work is cuBLAS's.
 #include "kernels.cuh"
+#include "lower_triangle.cuh"
 
 namespace hapi_eskf {
 namespace cuda {
 namespace {
 
 constexpr int kThreads = 256;
-
-// Lower triangle is authoritative: (i, j) above the diagonal is read mirrored.
-template <typename T>
-__device__ __forceinline__ T sym(const T* C, std::size_t ld, int i, int j) {
-  return i >= j ? C[i + static_cast<std::size_t>(j) * ld] : C[j + static_cast<std::size_t>(i) * ld];
-}
-
-// Row of a landmark slot after the pose block of P rows (types.hpp landmarkRow).
-__device__ __forceinline__ int landmarkRowDev(int slot, int P) { return P + 3 * slot; }
 
 // One thread per (state row i, measurement j): reads the 9 columns of C that
 // H_j touches and writes 3 entries of P. Threads of a warp share j, so the H

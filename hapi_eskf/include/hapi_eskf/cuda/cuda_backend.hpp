@@ -16,6 +16,12 @@ namespace cuda {
 // nullptr and *error on failure (no device, out of memory ...).
 std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_length, int pose_dim,
                                                    const EskfSettings& s, std::string* error);
+// The partitioned update on the device (docs/DESIGN.md "Partitioned update"):
+// same results as the dense backend, per-update work in the active part, the
+// rest of C deferred to a flush; max_active = s.partition_max_active. FP64
+// only (s.precision must be fp64). nullptr and *error on failure.
+std::unique_ptr<CovarianceBackend> makePartitionedCudaBackend(int capacity, int descriptor_length, int pose_dim,
+                                                              const EskfSettings& s, std::string* error);
 // Device usable? "CUDA device N: name + memory" in *info, else
 // "CUDA device N ...: why not".
 bool deviceAvailable(int device, std::string* info);
