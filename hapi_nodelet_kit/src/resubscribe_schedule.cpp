@@ -11,7 +11,7 @@ ResubscribeSchedule::ResubscribeSchedule(double timeout, double max_wait)
 bool ResubscribeSchedule::due(double now, double last_message, bool publisher_connected) {
   const bool in_stall = last_resubscribe_ >= last_message;
   if (!in_stall) wait_ = timeout_;  // traffic since the last re-subscription: a new stall starts over
-  if (timeout_ <= 0 || (!publisher_connected && !in_stall)) return false;
+  if (timeout_ <= 0 || last_message < 0 || (!publisher_connected && !in_stall)) return false;
   return now - std::max(last_message, last_resubscribe_) >= wait_;
 }
 

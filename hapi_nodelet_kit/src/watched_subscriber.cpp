@@ -16,7 +16,7 @@ void WatchedSubscriber::start(ros::NodeHandle& nh, Factory subscribe, double tim
   owner_ = owner;
   subscribe_ = std::move(subscribe);
   schedule_ = ResubscribeSchedule(timeout, max_wait);
-  last_message_ns_ = nowNs();  // a publisher that never sends is a stall too
+  last_message_ns_ = -1;  // nothing received yet: not watched
   sub_ = subscribe_();
   if (timeout > 0)
     timer_ = nh.createSteadyTimer(ros::WallDuration(timeout / 4), [this](const ros::SteadyTimerEvent&) { check(); });
@@ -37,7 +37,8 @@ void WatchedSubscriber::check() {
   std::lock_guard<std::mutex> lk(mu_);
   if (!sub_) return;  // shut down
   const double now = nowNs() * 1e-9;
-  const double last = last_message_ns_.load(std::memory_order_relaxed) * 1e-9;
+  const std::int64_t last_ns = last_message_ns_.load(std::memory_order_relaxed);
+  const double last = last_ns < 0 ? -1.0 : last_ns * 1e-9;
   if (!schedule_.due(now, last, sub_.getNumPublishers() > 0)) return;
   const bool first = schedule_.currentWait() <= schedule_.timeout();
   const std::string topic = sub_.getTopic();

@@ -48,6 +48,11 @@ TEST(ResubscribeSchedule, SilenceBacksOffToMaxWaitAndAMessageRestartsIt) {
   EXPECT_TRUE(s.due(106.0, 101.0, true));
 }
 
+TEST(ResubscribeSchedule, ATopicThatNeverDeliveredIsNotWatched) {
+  ResubscribeSchedule s(5.0, 10.0);
+  EXPECT_FALSE(s.due(1e6, -1.0, true));
+}
+
 TEST(ResubscribeSchedule, ZeroTimeoutNeverResubscribes) {
   ResubscribeSchedule s(0.0, 0.0);
   EXPECT_FALSE(s.due(1e6, 0.0, true));

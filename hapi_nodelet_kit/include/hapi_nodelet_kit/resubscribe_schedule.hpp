@@ -9,8 +9,12 @@
 // may come 20-30 s after the link is back. A new subscription opens a new
 // connection, which carries data as soon as the link does.
 //
-// Rule: a stall starts when no message came for `timeout` seconds while a
-// publisher is connected; a re-subscription is then due. It stays a stall,
+// Rule: a stall starts when a topic that delivered messages has had none
+// for `timeout` seconds while a publisher is connected; a re-subscription is
+// then due. A topic that never delivered is not watched (roscpp connects it
+// itself, and a re-subscription loses what is published while it
+// reconnects: a publisher that is connected but has not started yet must not
+// pay for that). It stays a stall,
 // with further re-subscriptions, until a message arrives, whether or not the
 // new subscription has connected (during an outage it cannot). The wait
 // since the last message or re-subscription, whichever is later, starts at
@@ -27,8 +31,8 @@ class ResubscribeSchedule {
  public:
   ResubscribeSchedule(double timeout, double max_wait);
 
-  // `last_message`: steady time of the newest message (or of the start, when
-  // none came yet). Pure check; the caller acts and calls resubscribed().
+  // `last_message`: steady time of the newest message, negative when none
+  // came yet. Pure check; the caller acts and calls resubscribed().
   bool due(double now, double last_message, bool publisher_connected);
   void resubscribed(double now);
 

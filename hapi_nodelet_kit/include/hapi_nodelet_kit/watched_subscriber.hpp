@@ -45,7 +45,7 @@ class WatchedSubscriber {
   ResubscribeSchedule schedule_{0, 0};
   ros::SteadyTimer timer_;
   std::string owner_;
-  std::atomic<std::int64_t> last_message_ns_{0};
+  std::atomic<std::int64_t> last_message_ns_{-1};  // steady ns; -1: none yet
   std::atomic<std::uint64_t> resubscriptions_{0};
 };
 
