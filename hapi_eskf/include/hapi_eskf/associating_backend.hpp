@@ -45,6 +45,7 @@ class AssociatingBackend final : public SlamBackend {
   std::vector<LandmarkInfo> landmarks() const override;
   int numLandmarks() const override { return book_.size(); }
   double time() const override { return time_; }
+  void settle() override { core_->settle(); }
 
   const AssociatedCore& core() const { return *core_; }
 
