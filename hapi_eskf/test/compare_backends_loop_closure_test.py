@@ -11,7 +11,9 @@ back end):
   * pool 1000, 50 additions per step: the pool turns over every ~40 steps,
     so no frame after step 300 re-observes a landmark of the first 100 steps
     and none of the first 50 steps is left in the final map.
-Also: every step has a non-negative background time (settle()).
+Also: every step has a non-negative background time (settle()), and the
+harness (tools/eval/compare_backends.py) gives the synthetic orbit, whose
+truth is on its frames' clock, no truth offset whatever --truth-offset says.
 
     compare_backends_loop_closure_test.py PATH/TO/compare_backends
 """
@@ -35,9 +37,21 @@ def run(tool, out, label, additions):
     return steps, landmarks
 
 
+def harness_offsets():
+    """The truth offsets compare_backends.py passes: (synthetic orbit, recorded stream)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "eval"))
+    import compare_backends  # noqa: E402 (the harness; no ROS import at module level)
+    return compare_backends.truth_offset("synthetic-orbit", -0.003), compare_backends.truth_offset(
+        "no_such_stream.txt", -0.003)
+
+
 def main():
     tool = sys.argv[1]
     failures = []
+    synthetic, recorded = harness_offsets()
+    if synthetic != 0.0 or recorded != -0.003:
+        failures.append("harness truth offsets: synthetic-orbit %r (expected 0), recorded %r (expected -0.003)"
+                        % (synthetic, recorded))
     with tempfile.TemporaryDirectory() as out:
         steps, landmarks = run(tool, out, "few", 2)
         if len(steps) != FRAMES:
