@@ -12,7 +12,9 @@ A variant is `LABEL` (= an algorithm: eskf, seif, graph, fastslam2) or
 `LABEL=ALGORITHM[:key=value:...]`, e.g. `seif_exact=seif:seif_max_active_landmarks=0`.
 --set applies to every run (e.g. max_landmarks=1000 max_new_landmarks=50 for
 Kock's pool of 1000 and 50 additions per step). The truth clock offset of a
-simulated stream is read from the bag next to it (accuracy.py's time_offset).
+simulated stream is read from the bag next to it (accuracy.py's time_offset)
+or given by --truth-offset; `synthetic-orbit`'s truth is on its frames' clock
+(offset 0 whatever --truth-offset says).
 Each run: `compare_backends STREAM --algorithm A --label STREAM__LABEL --out DIR ...`
 (DIR/STREAM__LABEL_steps.csv, _landmarks.csv, _summary.txt); then DIR/table.md
 and DIR/<stream>_errors.png, _nees.png, _time.png, _landmarks.png.
@@ -44,10 +46,12 @@ def stream_name(stream):
 
 
 def truth_offset(stream, given=None):
+    if stream == "synthetic-orbit":
+        return 0.0  # generated with its truth on the frames' clock
     if given is not None:
         return given
     bag = stream.replace("_stream.txt", ".bag")
-    if stream == "synthetic-orbit" or not os.path.exists(bag):
+    if not os.path.exists(bag):
         return 0.0
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import accuracy  # noqa: E402 (needs rosbag)
@@ -186,7 +190,8 @@ def main():
     ap.add_argument("--out", default=os.path.join(REPO, ".ws", "backends"))
     ap.add_argument("--frames", type=int, default=0)
     ap.add_argument("--truth-offset", type=float, default=None,
-                    help="t_truth = t_frame + S for every stream (default: from the bag next to the stream, else 0)")
+                    help="t_truth = t_frame + S for every recorded stream (default: from the bag next to the "
+                         "stream, else 0; synthetic-orbit: always 0)")
     ap.add_argument("--plot-only", action="store_true", help="tables and plots of the runs already in --out")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)

@@ -29,6 +29,8 @@ class AssociatedCore {
   // observed no more (a core may keep them, e.g. for a refinement).
   virtual void forget(const std::vector<uint64_t>& ids) = 0;
   virtual std::size_t memoryBytes() const = 0;
+  // SlamBackend::settle(): waits for background work and merges it.
+  virtual void settle() {}
 };
 
 }  // namespace hapi_eskf

@@ -30,7 +30,8 @@ class AssociatingBackend final : public SlamBackend {
   AssociatingBackend(const EskfSettings& settings, int descriptor_length, std::unique_ptr<AssociatedCore> core);
 
   const char* name() const override { return toString(settings_.backend_algorithm); }
-  std::string storage() const override { return "cpu"; }
+  // "graph-cpu", "fastslam2-cpu": the diagnostics name the algorithm too.
+  std::string storage() const override { return std::string(name()) + "-cpu"; }
   std::size_t memoryBytes() const override;
   Status reset(const PoseState& initial, double stamp) override;
   bool supportsImu() const override { return false; }
@@ -44,6 +45,7 @@ class AssociatingBackend final : public SlamBackend {
   std::vector<LandmarkInfo> landmarks() const override;
   int numLandmarks() const override { return book_.size(); }
   double time() const override { return time_; }
+  void settle() override { core_->settle(); }
 
   const AssociatedCore& core() const { return *core_; }
 

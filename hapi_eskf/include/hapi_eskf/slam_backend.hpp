@@ -84,6 +84,13 @@ class SlamBackend {
   virtual int numLandmarks() const = 0;
   virtual double time() const = 0;  // stamp of the state [s]
 
+  // Waits for the work this back end does off the caller's thread (graph's
+  // window solve) and merges its result. Live, that work runs beside the
+  // frames; an offline replay (compare_backends) calls this after each frame
+  // so that its figures do not depend on how fast the machine replays.
+  // Default: nothing runs in the background.
+  virtual void settle() {}
+
   // IMU-rate output: the pose-block state to propagate from (false: this
   // back end has none, no IMU-rate output).
   virtual bool poseBlockState(PoseBlockState* /*out*/) const { return false; }

@@ -59,9 +59,9 @@ class GraphSlam final : public AssociatedCore {
   // A copy of the whole graph (the batch refinement works on it while the
   // back end carries on).
   GraphMap snapshot() const;
-  // Waits for the background solver, then merges its solution (tests; before
-  // a final read-out).
-  void settle();
+  // Waits for the background solver, then merges its solution (tests,
+  // offline replays; before a final read-out).
+  void settle() override;
   const GraphSettings& settings() const { return settings_; }
 
  private:
