@@ -8,6 +8,7 @@
 //
 //   hapi_eskf_imu_bench [--k 2000] [--samples 4000] [--rate 200] [--frame-rate 10] [key=value ...]
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/so3.hpp"
 
@@ -66,7 +67,7 @@ int main(int argc, char** argv) {
   std::vector<uint8_t> desc(32, 0);
   std::vector<NewLandmarkBlock> blocks(K);
   for (NewLandmarkBlock& b : blocks) {
-    const Mat3 R = expSO3(Vec3(g(rng), g(rng), g(rng)));
+    const Mat3 R = expSO3(drawVec3(g, rng));
     b.G_pose << Mat3::Identity(), -R * skew(Vec3(g(rng), g(rng), 1.0 + std::abs(g(rng))));
     b.G_z = R;
     b.Cz = 1e-4 * Mat3::Identity();

@@ -1,4 +1,5 @@
 #include "scenario.hpp"
+#include "hapi_eskf/random_draw.hpp"
 
 #include "hapi_eskf/removal_plan.hpp"
 
@@ -136,7 +137,7 @@ StageTimes Scenario::iterate() {
     m.response = static_cast<float>(j % 97);
     std::vector<uint8_t> d;
     if (j < seen.size()) {
-      m.z = measure(pose_, positions_[seen[j]]) + Vec3(noise(rng_), noise(rng_), noise(rng_));
+      m.z = measure(pose_, positions_[seen[j]]) + drawVec3(noise, rng_);
       d = desc_[seen[j]];
       for (int f = 0; f < 2; ++f) {
         const int b = bit(rng_);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "hapi_eskf/associated_frame.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "sim_scenario.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -29,7 +30,7 @@ inline Globe makeGlobe(std::mt19937& rng, int n_points) {
   std::normal_distribution<double> n01(0.0, 1.0);
   std::uniform_int_distribution<int> byte(0, 255);
   for (int i = 0; i < n_points; ++i) {
-    g.world.points.push_back(g.centre + g.radius * Vec3(n01(rng), n01(rng), n01(rng)).normalized());
+    g.world.points.push_back(g.centre + g.radius * drawVec3(n01, rng).normalized());
     std::vector<uint8_t> d(32);
     for (auto& b : d) b = static_cast<uint8_t>(byte(rng));
     g.world.descriptors.push_back(d);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "hapi_eskf/motion_model.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "sim_scenario.hpp"
 
@@ -84,8 +85,8 @@ inline ImuSample imuSample(const InertialTrajectory& traj, const ImuNoiseModel& 
   const Mat3 R = b.q.toRotationMatrix();
   ImuSample s;
   s.stamp = t;
-  s.gyro = b.omega + n.b_g + n.gyro_density / std::sqrt(dt) * Vec3(g(rng), g(rng), g(rng));
-  s.accel = R.transpose() * (b.a - kGravity) + n.b_a + n.accel_density / std::sqrt(dt) * Vec3(g(rng), g(rng), g(rng));
+  s.gyro = b.omega + n.b_g + n.gyro_density / std::sqrt(dt) * drawVec3(g, rng);
+  s.accel = R.transpose() * (b.a - kGravity) + n.b_a + n.accel_density / std::sqrt(dt) * drawVec3(g, rng);
   return s;
 }
 

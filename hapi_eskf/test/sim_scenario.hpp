@@ -5,6 +5,7 @@
 #pragma once
 
 #include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "hapi_eskf/types.hpp"
 
@@ -48,7 +49,7 @@ inline World randomWorld(std::mt19937& rng, int n, const Vec3& lo, const Vec3& h
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::uniform_int_distribution<int> byte(0, 255);
   for (int i = 0; i < n; ++i) {
-    w.points.push_back(lo + (hi - lo).cwiseProduct(Vec3(u(rng), u(rng), u(rng))));
+    w.points.push_back(lo + (hi - lo).cwiseProduct(drawVec3(u, rng)));
     std::vector<uint8_t> d(32);
     for (auto& b : d) b = static_cast<uint8_t>(byte(rng));
     w.descriptors.push_back(d);
@@ -62,8 +63,8 @@ inline PoseState truthStep(const PoseState& x, double dt, const EskfSettings& s,
   PoseState y = predictPose(x, dt, s);
   std::normal_distribution<double> g(0.0, 1.0);
   const double sv = s.sigma_acceleration * std::sqrt(dt), sw = s.sigma_angular_acceleration * std::sqrt(dt);
-  y.v += sv * Vec3(g(rng), g(rng), g(rng));
-  y.w += sw * Vec3(g(rng), g(rng), g(rng));
+  y.v += sv * drawVec3(g, rng);
+  y.w += sw * drawVec3(g, rng);
   return y;
 }
 
@@ -83,7 +84,7 @@ inline StereoFrame makeFrame(const World& w, const PoseState& truth, const Stere
     StereoMeasurement m;
     m.Cz = rig.covariance(zc);
     const Mat3 L = m.Cz.llt().matrixL();
-    m.z = zc + L * Vec3(g(rng), g(rng), g(rng));
+    m.z = zc + L * drawVec3(g, rng);
     m.frontend_id = static_cast<uint32_t>(i);
     m.response = resp(rng);
     f.measurements.push_back(m);

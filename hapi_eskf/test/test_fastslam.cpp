@@ -4,6 +4,7 @@
 // where many particles must reproduce the Kalman filter's posterior within
 // their sampling error.
 #include "bad_frames.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "globe_run.hpp"
 #include "hapi_eskf/fastslam/fastslam2.hpp"
 
@@ -93,7 +94,7 @@ TEST(FastSlam2, ManyParticlesMatchTheKalmanFilterOnALinearGaussianToy) {
   const double q = sigma_a * sigma_a * dt * dt * dt / 3.0;
   std::mt19937 rng(3);
   std::normal_distribution<double> n01(0.0, 1.0);
-  auto randn3 = [&] { return Vec3(n01(rng), n01(rng), n01(rng)); };
+  auto randn3 = [&] { return drawVec3(n01, rng); };
   std::vector<Vec3> m(L);
   for (int j = 0; j < L; ++j) m[j] = Vec3(0.3 * j - 0.6, 0.2 * (j % 2) - 0.1, 1.0 + 0.1 * j);
   std::vector<Mat3> Cz(L);

@@ -6,6 +6,7 @@
 //  * the whole filter on an analytic trajectory with a biased, noisy IMU:
 //    the pose follows the truth and the bias estimates end within 3 sigma.
 #include "basic_settings.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/inertial_alignment.hpp"
 #include "inertial_scenario.hpp"
@@ -124,7 +125,7 @@ TEST(InertialModel, ProcessNoiseMatchesMonteCarlo) {
   const int steps = 40, runs = 3000;
   std::mt19937 rng(5);
   std::normal_distribution<double> g(0.0, 1.0);
-  auto rnd = [&] { return Vec3(g(rng), g(rng), g(rng)); };
+  auto rnd = [&] { return drawVec3(g, rng); };
   // Nominal: the true samples; covariance from zero.
   std::vector<ImuSample> truth(steps);
   for (int k = 0; k < steps; ++k)

@@ -2,6 +2,7 @@
 // on the manifold (docs/DESIGN.md "Jacobian checks").
 // Error convention: R = R^ Exp(dtheta), the others additive.
 #include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/so3.hpp"
 
 #include <gtest/gtest.h>
@@ -59,16 +60,16 @@ double relErr(const MatX& A, const MatX& N) {
 PoseState randomPose(std::mt19937& rng) {
   std::normal_distribution<double> g(0, 1);
   PoseState x;
-  x.p = Vec3(g(rng), g(rng), g(rng)) * 3;
-  x.q = Eigen::Quaterniond(expSO3(Vec3(g(rng), g(rng), g(rng))));
-  x.v = Vec3(g(rng), g(rng), g(rng));
-  x.w = Vec3(g(rng), g(rng), g(rng)) * 0.7;
+  x.p = drawVec3(g, rng) * 3;
+  x.q = Eigen::Quaterniond(expSO3(drawVec3(g, rng)));
+  x.v = drawVec3(g, rng);
+  x.w = drawVec3(g, rng) * 0.7;
   return x;
 }
 
 Vec3 randVec(std::mt19937& rng, double s) {
   std::normal_distribution<double> g(0, s);
-  return Vec3(g(rng), g(rng), g(rng));
+  return drawVec3(g, rng);
 }
 
 TEST(Jacobians, So3ExpLogRoundTripAndRightJacobian) {

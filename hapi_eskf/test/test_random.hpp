@@ -3,6 +3,7 @@
 #pragma once
 
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "hapi_eskf/types.hpp"
 
@@ -19,7 +20,10 @@ struct Rng {
   explicit Rng(unsigned seed) : gen(seed) {}
   double n(double s = 1.0) { return std::normal_distribution<double>(0, s)(gen); }
   int i(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(gen); }
-  Vec3 v3(double s = 1.0) { return Vec3(n(s), n(s), n(s)); }
+  Vec3 v3(double s = 1.0) {
+    std::normal_distribution<double> d(0, s);
+    return drawVec3(d, gen);
+  }
   Mat3 spd3(double scale) {
     Mat3 A;
     for (int r = 0; r < 3; ++r)

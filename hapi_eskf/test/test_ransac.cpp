@@ -3,6 +3,7 @@
 // Mahalanobis gate accepts when the predicted pose is uncertain are rejected
 // by the RANSAC rigid fit, correct ones are kept.
 #include "basic_settings.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/association.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/eskf.hpp"
@@ -29,8 +30,8 @@ void makePairs(int n, const std::vector<int>& wrong, std::vector<Vec3>* X, std::
   for (int i = 0; i < n; ++i) {
     const Vec3 zc(0.3 * g(rng), 0.2 * g(rng), 0.5 + 0.1 * std::abs(g(rng)));
     Vec3 x = *R * zc + *t;
-    X->push_back(x + s_m * Vec3(g(rng), g(rng), g(rng)));
-    Z->push_back(zc + s_z * Vec3(g(rng), g(rng), g(rng)));
+    X->push_back(x + s_m * drawVec3(g, rng));
+    Z->push_back(zc + s_z * drawVec3(g, rng));
     W->push_back(s_m * s_m * Mat3::Identity());
     Cz->push_back(s_z * s_z * Mat3::Identity());
   }
@@ -197,8 +198,8 @@ WrongMatchResult runWrongMatches(int ransac_iterations, double initial_sigma = 1
     for (int i = 0; i < n; ++i) {
       StereoMeasurement m;
       m.Cz = cov(pts[i]);
-      m.z = pts[i] + Mat3(m.Cz.llt().matrixL()) * Vec3(g(rng), g(rng), g(rng));
-      if (wrong && i % 6 == 0) m.z += offset * Vec3(u(rng), u(rng), u(rng)).normalized();
+      m.z = pts[i] + Mat3(m.Cz.llt().matrixL()) * drawVec3(g, rng);
+      if (wrong && i % 6 == 0) m.z += offset * drawVec3(u, rng).normalized();
       m.frontend_id = static_cast<uint32_t>(i);
       m.response = 1.0f;
       fr.measurements.push_back(m);

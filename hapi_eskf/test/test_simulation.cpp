@@ -3,6 +3,7 @@
 // consistency: the average NEES of the 6-dof pose over >= 30 Monte-Carlo runs
 // lies in the 95 % chi^2 interval.
 #include "basic_settings.hpp"
+#include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "sim_scenario.hpp"
 
@@ -64,10 +65,10 @@ RunResult runOnce(unsigned seed, int n_frames, const EskfSettings& s) {
   // The initial estimate is drawn from the filter's prior around the truth.
   std::normal_distribution<double> g(0.0, 1.0);
   PoseState init = truth;
-  init.p += s.initial_sigma_position * Vec3(g(rng), g(rng), g(rng));
-  init.q = truth.q * quatExp(s.initial_sigma_orientation * Vec3(g(rng), g(rng), g(rng)));
-  init.v += s.initial_sigma_velocity * Vec3(g(rng), g(rng), g(rng));
-  init.w += s.initial_sigma_angular_velocity * Vec3(g(rng), g(rng), g(rng));
+  init.p += s.initial_sigma_position * drawVec3(g, rng);
+  init.q = truth.q * quatExp(s.initial_sigma_orientation * drawVec3(g, rng));
+  init.v += s.initial_sigma_velocity * drawVec3(g, rng);
+  init.w += s.initial_sigma_angular_velocity * drawVec3(g, rng);
 
   Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
   EXPECT_EQ(f.reset(init, 0.0), Status::kOk);
@@ -97,6 +98,11 @@ RunResult runOnce(unsigned seed, int n_frames, const EskfSettings& s) {
   return r;
 }
 
+// A regression on one fixed sample (seeds 1000..1029), not a proof of
+// consistency: the same 30 runs drawn from other seeds give an average pose
+// NEES of 7.74, 7.34, 7.48 and 6.62 (seeds 1000.. with the opposite draw
+// order of each vector, 2000.., 3000.., 4000..) against 6.54 here, three of
+// five outside the band [4.83, 7.30] (docs/DESIGN.md "Not established").
 void checkMonteCarlo(const EskfSettings& s) {
   const int runs = 30, frames = 60;
   std::vector<double> nees_mean(frames, 0.0);

@@ -1,5 +1,6 @@
 // The synthetic orbit scenario (synthetic_orbit.hpp).
 #include "synthetic_orbit.hpp"
+#include "hapi_eskf/random_draw.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -19,7 +20,7 @@ LandmarkStream makeSyntheticOrbit(const SyntheticOrbitOptions& o) {
   std::vector<Vec3> X(o.points);
   std::vector<std::array<uint8_t, 32>> D(o.points);
   for (int i = 0; i < o.points; ++i) {
-    X[i] = o.globe_radius * Vec3(g(rng), g(rng), g(rng)).normalized();
+    X[i] = o.globe_radius * drawVec3(g, rng).normalized();
     for (auto& b : D[i]) b = static_cast<uint8_t>(byte(rng));
   }
   LandmarkStream s;
@@ -61,7 +62,7 @@ LandmarkStream makeSyntheticOrbit(const SyntheticOrbitOptions& o) {
       StereoMeasurement m;
       m.Cz = s_perp * s_perp * Mat3::Identity() + (s_along * s_along - s_perp * s_perp) * u * u.transpose();
       const Mat3 L = m.Cz.llt().matrixL();
-      m.z = zt + L * Vec3(g(rng), g(rng), g(rng));
+      m.z = zt + L * drawVec3(g, rng);
       m.frontend_id = static_cast<uint32_t>(i);
       m.response = uni(rng);
       m.rgb = {{static_cast<uint8_t>(i % 256), 128, 128}};

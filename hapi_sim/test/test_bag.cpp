@@ -465,7 +465,7 @@ TEST_F(BagTest, ProjectedSpherePointsLandOnRenderedTexture) {
       ASSERT_GE(res.size(), 10u) << "frame " << k << " camera " << c << ": too few textured patches";
       std::vector<double> err, rms;
       for (const PatchResult& r : res) {
-        // Issue 2: within 0.5 px everywhere.
+        // Rendered geometry within 0.5 px everywhere.
         EXPECT_LT(r.shift.norm(), 0.5) << "frame " << k << " camera " << c;
         err.push_back(r.shift.norm());
         rms.push_back(r.rms);
