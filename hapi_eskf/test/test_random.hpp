@@ -21,8 +21,10 @@ struct Rng {
   double n(double s = 1.0) { return std::normal_distribution<double>(0, s)(gen); }
   int i(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(gen); }
   Vec3 v3(double s = 1.0) {
-    std::normal_distribution<double> d(0, s);
-    return drawVec3(d, gen);
+    // A fresh distribution per draw, as n() (a shared one would hand out the
+    // cached second value of its pairs: another sample).
+    auto fresh = [s](std::mt19937& g) { return std::normal_distribution<double>(0, s)(g); };
+    return drawVec3(fresh, gen);
   }
   Mat3 spd3(double scale) {
     Mat3 A;

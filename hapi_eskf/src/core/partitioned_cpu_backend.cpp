@@ -20,6 +20,7 @@
 #include "lower_triangle.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/descriptor_pool.hpp"
+#include "hapi_eskf/partition_epoch.hpp"
 #include "hapi_eskf/jacobians.hpp"
 
 #include <algorithm>
@@ -143,25 +144,16 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
-    // Observed passive landmarks join the active part first (exact, no
-    // flush). When most of them are passive (the view jumped), joining is no
-    // cheaper than the dense update (their basis rows would make the next
-    // flush cost as much): flush, update the stored C densely, and start an
-    // epoch in which they are active (joined while Psi = 0: cheap).
-    std::vector<int> joiners;
-    for (const auto& b : blocks)
-      if (active_pos_[b.slot] < 0) joiners.push_back(b.slot);
-    if (2 * joiners.size() > blocks.size()) {
+    const partition::EpochStep step = partition::planEpochStep(blocks, active_pos_);
+    if (step.new_epoch) {
       flush();
       const Status st = cpu_update::denseUpdateLower(la_, &C_, dim(), poseDim(), blocks, dx, nis);
       if (st != Status::kOk) return st;
       startEpoch();
-      std::vector<int> seen;
-      for (const auto& b : blocks) seen.push_back(b.slot);
-      join(seen);
+      join(step.join);
       return Status::kOk;
     }
-    join(joiners);
+    join(step.join);
 
     const int n = dim(), a = activeDim(), a0 = basisDim();
     const int L = static_cast<int>(blocks.size()), m = 3 * L;

@@ -13,6 +13,7 @@
 // C, which never leaves the device. Only dx, y, the factor's checks and the
 // marginals' small blocks come back to the host.
 #include "hapi_eskf/cuda/cuda_backend.hpp"
+#include "hapi_eskf/partition_epoch.hpp"
 
 #include "dense_cuda_backend.hpp"
 #include "partitioned_kernels.cuh"
@@ -210,24 +211,17 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
-    // As the CPU variant: observed passive landmarks join first; when most of
-    // them are passive (the view jumped), flush, update the stored C densely
-    // and start an epoch in which they are active.
-    std::vector<int> joiners;
-    for (const auto& b : blocks)
-      if (active_pos_[b.slot] < 0) joiners.push_back(b.slot);
-    if (2 * joiners.size() > blocks.size()) {
+    const partition::EpochStep step = partition::planEpochStep(blocks, active_pos_);
+    if (step.new_epoch) {
       Status st = flush();
       if (st != Status::kOk) return st;
       st = dense_->update(blocks, dx, nis);
       if (st != Status::kOk) return st;
       st = startEpoch();
       if (st != Status::kOk) return st;
-      std::vector<int> seen;
-      for (const auto& b : blocks) seen.push_back(b.slot);
-      return join(seen);
+      return join(step.join);
     }
-    Status st = join(joiners);
+    Status st = join(step.join);
     if (st != Status::kOk) return st;
 
     const int n = dim(), a = a_, a0 = a0_, L = static_cast<int>(blocks.size()), m3 = 3 * L;
