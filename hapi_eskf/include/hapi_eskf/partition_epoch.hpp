@@ -11,6 +11,7 @@
 
 #include "hapi_eskf/covariance_backend.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace hapi_eskf {
@@ -34,6 +35,27 @@ inline EpochStep planEpochStep(const std::vector<MeasurementBlock>& blocks, cons
     for (const MeasurementBlock& b : blocks) step.join.push_back(b.slot);
   }
   return step;
+}
+
+// After a removal moved landmarks between slots (new_of_old[k]: the new
+// slot of old slot k, -1 when removed): the per-slot basis flags, the active
+// list and positions (the kept active landmarks `kept_active`, old slots in
+// active order, after the pose_dim pose rows) and the basis list, renumbered.
+inline void renumberAfterRemoval(const std::vector<int>& new_of_old, const std::vector<int>& kept_active,
+                                 int pose_dim, std::vector<char>* in_basis, std::vector<int>* active,
+                                 std::vector<int>* active_pos, std::vector<int>* basis) {
+  std::vector<char> basis_new(in_basis->size(), 0);
+  for (std::size_t k = 0; k < new_of_old.size(); ++k)
+    if (new_of_old[k] >= 0) basis_new[new_of_old[k]] = (*in_basis)[k];
+  in_basis->swap(basis_new);
+  active->clear();
+  std::fill(active_pos->begin(), active_pos->end(), -1);
+  for (std::size_t i = 0; i < kept_active.size(); ++i) {
+    const int s = new_of_old[kept_active[i]];
+    active->push_back(s);
+    (*active_pos)[s] = pose_dim + 3 * static_cast<int>(i);
+  }
+  for (int& s : *basis) s = new_of_old[s];
 }
 
 }  // namespace partition

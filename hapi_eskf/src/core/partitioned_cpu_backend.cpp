@@ -274,18 +274,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
         std::memcpy(&desc_[static_cast<std::size_t>(mv.to) * desc_len_],
                     &desc_[static_cast<std::size_t>(mv.from) * desc_len_], desc_len_);
     }
-    std::vector<char> basis_new(capacity_, 0);
-    for (int k = 0; k < K_; ++k)
-      if (new_of_old[k] >= 0) basis_new[new_of_old[k]] = in_basis_[k];
-    in_basis_.swap(basis_new);
-    active_.clear();
-    std::fill(active_pos_.begin(), active_pos_.end(), -1);
-    for (std::size_t i = 0; i < kept_active.size(); ++i) {
-      const int s = new_of_old[kept_active[i]];
-      active_.push_back(s);
-      active_pos_[s] = P + 3 * static_cast<int>(i);
-    }
-    for (int& s : basis_) s = new_of_old[s];
+    partition::renumberAfterRemoval(new_of_old, kept_active, P, &in_basis_, &active_, &active_pos_, &basis_);
     K_ -= static_cast<int>(slots.size());
     return Status::kOk;
   }

@@ -371,18 +371,7 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     std::vector<int> new_of_old(K);
     for (int k = 0; k < K; ++k) new_of_old[k] = removed[k] ? -1 : k;
     for (const SlotMove& mv : moves) new_of_old[mv.from] = mv.to;
-    std::vector<char> basis_new(capacity(), 0);
-    for (int k = 0; k < K; ++k)
-      if (new_of_old[k] >= 0) basis_new[new_of_old[k]] = in_basis_[k];
-    in_basis_.swap(basis_new);
-    active_.clear();
-    std::fill(active_pos_.begin(), active_pos_.end(), -1);
-    for (std::size_t i = 0; i < kept_active.size(); ++i) {
-      const int s = new_of_old[kept_active[i]];
-      active_.push_back(s);
-      active_pos_[s] = P + 3 * static_cast<int>(i);
-    }
-    for (int& s : basis_) s = new_of_old[s];
+    partition::renumberAfterRemoval(new_of_old, kept_active, P, &in_basis_, &active_, &active_pos_, &basis_);
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     return Status::kOk;
   }
