@@ -37,6 +37,29 @@ inline EpochStep planEpochStep(const std::vector<MeasurementBlock>& blocks, cons
   return step;
 }
 
+// Before a removal of `slots` (of `num_landmarks`): which slots go, the
+// active landmarks that stay (old slots, in active order) and the rows of the
+// active block that stay (the pose_dim pose rows, then 3 per kept active
+// landmark).
+struct KeptActive {
+  std::vector<char> removed;  // per old slot
+  std::vector<int> landmarks;
+  std::vector<int> rows;
+};
+inline KeptActive keptAfterRemoval(const std::vector<int>& slots, int num_landmarks, int pose_dim,
+                                   const std::vector<int>& active, const std::vector<int>& active_pos) {
+  KeptActive kept;
+  kept.removed.assign(num_landmarks, 0);
+  for (int s : slots) kept.removed[s] = 1;
+  for (int i = 0; i < pose_dim; ++i) kept.rows.push_back(i);
+  for (int s : active)
+    if (!kept.removed[s]) {
+      kept.landmarks.push_back(s);
+      for (int r = 0; r < 3; ++r) kept.rows.push_back(active_pos[s] + r);
+    }
+  return kept;
+}
+
 // After a removal moved landmarks between slots (new_of_old[k]: the new
 // slot of old slot k, -1 when removed): the per-slot basis flags, the active
 // list and positions (the kept active landmarks `kept_active`, old slots in

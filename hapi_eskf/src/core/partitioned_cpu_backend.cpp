@@ -247,16 +247,9 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
         flush();
         break;
       }
-    std::vector<char> removed(K_, 0);
-    for (int s : slots) removed[s] = 1;
-    std::vector<int> keep;
-    for (int i = 0; i < poseDim(); ++i) keep.push_back(i);
-    std::vector<int> kept_active;
-    for (int s : active_)
-      if (!removed[s]) {
-        kept_active.push_back(s);
-        for (int r = 0; r < 3; ++r) keep.push_back(active_pos_[s] + r);
-      }
+    const partition::KeptActive kept = partition::keptAfterRemoval(slots, K_, poseDim(), active_, active_pos_);
+    const std::vector<int>& keep = kept.rows;
+    const std::vector<int>& kept_active = kept.landmarks;
     if (kept_active.size() != active_.size()) {
       const MatrixXd Caa = Caa_(keep, keep);
       const MatrixXd Phi = Phi_(keep, Eigen::all);
@@ -266,7 +259,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     const int P = poseDim();
     const std::vector<SlotMove> moves = lower_triangle::fillHolesFromTail(&C_, K_, slots, P);
     std::vector<int> new_of_old(K_);
-    for (int k = 0; k < K_; ++k) new_of_old[k] = removed[k] ? -1 : k;
+    for (int k = 0; k < K_; ++k) new_of_old[k] = kept.removed[k] ? -1 : k;
     for (const SlotMove& mv : moves) {
       new_of_old[mv.from] = mv.to;
       X_.middleRows(row(mv.to), 3) = X_.middleRows(row(mv.from), 3);

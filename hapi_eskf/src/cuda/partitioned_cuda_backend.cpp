@@ -337,16 +337,9 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
         break;
       }
     const int P = poseDim(), K = numLandmarks(), a0 = a0_;
-    std::vector<char> removed(K, 0);
-    for (int s : slots) removed[s] = 1;
-    std::vector<int> keep;
-    for (int i = 0; i < P; ++i) keep.push_back(i);
-    std::vector<int> kept_active;
-    for (int s : active_)
-      if (!removed[s]) {
-        kept_active.push_back(s);
-        for (int r = 0; r < 3; ++r) keep.push_back(active_pos_[s] + r);
-      }
+    const partition::KeptActive kept = partition::keptAfterRemoval(slots, K, P, active_, active_pos_);
+    const std::vector<int>& keep = kept.rows;
+    const std::vector<int>& kept_active = kept.landmarks;
     if (kept_active.size() != active_.size()) {
       const int nk = static_cast<int>(keep.size());
       HAPI_CUDA_TRY(idx_.ensure(nk));
@@ -369,7 +362,7 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     const Status st = dense_->removeLandmarks(slots);  // synchronises the shared stream
     if (st != Status::kOk) return st;
     std::vector<int> new_of_old(K);
-    for (int k = 0; k < K; ++k) new_of_old[k] = removed[k] ? -1 : k;
+    for (int k = 0; k < K; ++k) new_of_old[k] = kept.removed[k] ? -1 : k;
     for (const SlotMove& mv : moves) new_of_old[mv.from] = mv.to;
     partition::renumberAfterRemoval(new_of_old, kept_active, P, &in_basis_, &active_, &active_pos_, &basis_);
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
