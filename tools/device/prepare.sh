@@ -16,3 +16,25 @@ if [ ! -d "$REPO/.device/openblas" ]; then
   cp -L /usr/lib/x86_64-linux-gnu/openblas-pthread/libopenblas.so.0 "$REPO/.device/openblas/libopenblas.so.0"
   cp -L /usr/lib/x86_64-linux-gnu/libgfortran.so.5 /usr/lib/x86_64-linux-gnu/libquadmath.so.0 "$REPO/.device/openblas/"
 fi
+# libFuzzer targets for the GPU machine's 16 host cores (tools/device/fuzz_run.sh):
+#   prepare.sh fuzz FUZZ_BUILD_DIR BUNDLE_NAME TARGET...
+# packs the targets (debug info stripped) of a `test/fuzz/smoke.sh build` and
+# the shared libraries they load, except the C library, which the machine has
+# in a version at least as new, into .device/fuzz-BUNDLE_NAME.tar.xz. Carry
+# that one file in the call that runs it.
+if [ "${1:-}" = fuzz ]; then
+  FUZZ_BUILD="${2:?usage: prepare.sh fuzz FUZZ_BUILD_DIR BUNDLE_NAME TARGET...}"
+  NAME="${3:?usage: prepare.sh fuzz FUZZ_BUILD_DIR BUNDLE_NAME TARGET...}"
+  shift 3
+  STAGE="$(mktemp -d)"
+  mkdir -p "$STAGE/$NAME/bin" "$STAGE/$NAME/lib"
+  for t in "$@"; do
+    objcopy --strip-debug "$FUZZ_BUILD/${t}_fuzzer" "$STAGE/$NAME/bin/${t}_fuzzer"
+    ldd "$FUZZ_BUILD/${t}_fuzzer" | awk '$3 ~ /^\// {print $3}' |
+      grep -v -E '/(libc|libm|libpthread|libdl|librt|ld-linux-x86-64)\.so' |
+      xargs -I{} cp -L {} "$STAGE/$NAME/lib/"
+  done
+  tar -C "$STAGE" -cJf "$REPO/.device/fuzz-$NAME.tar.xz" "$NAME"
+  rm -rf "$STAGE"
+  ls -la "$REPO/.device/fuzz-$NAME.tar.xz"
+fi
