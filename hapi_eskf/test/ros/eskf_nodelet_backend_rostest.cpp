@@ -12,6 +12,7 @@
 // Synthetic frames in lockstep (synthetic_frames.hpp) -> odometry that
 // follows the truth with a finite covariance, a map with per-point sigma,
 // and /diagnostics with every frame processed and no filter error.
+#include "nodelet_observer.hpp"
 #include "synthetic_frames.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -39,48 +40,10 @@ struct Expectations {
   double max_rotation_error = 0.05;
 };
 
-struct Observer {
-  std::mutex mu;
-  std::vector<nav_msgs::Odometry> odoms;
-  sensor_msgs::PointCloud2 map;
-  std::map<std::string, std::string> diag;
+using hapi_eskf_test::NodeletObserver;
+using hapi_eskf_test::waitFor;
 
-  void onOdom(const nav_msgs::Odometry::ConstPtr& m) {
-    std::lock_guard<std::mutex> lk(mu);
-    odoms.push_back(*m);
-  }
-  void onMap(const sensor_msgs::PointCloud2::ConstPtr& m) {
-    std::lock_guard<std::mutex> lk(mu);
-    map = *m;
-  }
-  void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
-    std::lock_guard<std::mutex> lk(mu);
-    for (const auto& s : m->status)
-      if (s.name.find("eskf") != std::string::npos)
-        for (const auto& kv : s.values) diag[kv.key] = kv.value;
-  }
-  std::size_t numOdom() {
-    std::lock_guard<std::mutex> lk(mu);
-    return odoms.size();
-  }
-  long diagCount(const std::string& key) {
-    std::lock_guard<std::mutex> lk(mu);
-    const auto it = diag.find(key);
-    return it == diag.end() ? -1 : std::stol(it->second);
-  }
-};
-
-template <typename Pred>
-bool waitFor(Pred p, double timeout_s) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (p()) return true;
-    ros::WallDuration(0.02).sleep();
-  }
-  return p();
-}
-
-Observer* obs = nullptr;
+NodeletObserver* obs = nullptr;
 ros::Publisher* pub = nullptr;
 hapi_eskf_test::SyntheticScene* scene = nullptr;
 Expectations expect;
@@ -162,17 +125,14 @@ int main(int argc, char** argv) {
   pnh.param("max_rotation_error", expect.max_rotation_error, expect.max_rotation_error);
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  Observer o;
+  NodeletObserver o(nh);
   obs = &o;
-  ros::Subscriber s1 = nh.subscribe("/eskf/odom", 1000, &Observer::onOdom, &o);
-  ros::Subscriber s2 = nh.subscribe("/eskf/map", 10, &Observer::onMap, &o);
-  ros::Subscriber s3 = nh.subscribe("/diagnostics", 100, &Observer::onDiag, &o);
   ros::Publisher p = nh.advertise<hapi_msgs::StereoLandmarks>("/eskf/landmarks", 100);
   pub = &p;
   hapi_eskf_test::SyntheticScene sc;
   scene = &sc;
   t0 = ros::Time::now();
-  waitFor([&] { return s1.getNumPublishers() > 0 && s3.getNumPublishers() > 0; }, 30.0);
+  waitFor([&] { return o.connected(); }, 30.0);
   const int rc = RUN_ALL_TESTS();
   spinner.stop();
   return rc;

@@ -6,6 +6,7 @@
 // and the filter must run again after the last reset, without filter
 // errors. Under ThreadSanitizer (tools/sanitize.sh tsan) the same run checks
 // the locking of the callbacks, the worker, the services and the timers.
+#include "nodelet_observer.hpp"
 #include "synthetic_frames.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -49,15 +50,7 @@ double diagValue(const std::string& key) {
   const auto it = diag.find(key);
   return it == diag.end() ? -1.0 : std::stod(it->second);
 }
-template <typename F>
-bool waitFor(F cond, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < end) {
-    if (cond()) return true;
-    ros::WallDuration(0.02).sleep();
-  }
-  return cond();
-}
+using hapi_eskf_test::waitFor;
 
 // Landmarks and gyro samples of the synthetic scene on the wall clock, from
 // its own thread, until stopped.

@@ -5,6 +5,7 @@
 //  2. frames at 10 Hz, gyro at 100 Hz: odometry (and TF) at the IMU rate, one
 //     output per gyro sample with strictly increasing stamps, following the
 //     truth between frames, twist = the gyro rate.
+#include "nodelet_observer.hpp"
 #include "synthetic_frames.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -73,12 +74,7 @@ double diagValue(const std::string& k) {
   std::lock_guard<std::mutex> lk(mu);
   return diag.count(k) ? std::stod(diag[k]) : -1.0;
 }
-template <typename P>
-bool waitFor(P p, double s) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(s);
-  while (ros::ok() && ros::WallTime::now() < end && !p()) ros::WallDuration(0.002).sleep();
-  return p();
-}
+using hapi_eskf_test::waitFor;
 
 // Mounting used in the launch file (base_link -> camera, imu_link = base axes).
 Eigen::Isometry3d baseToCamera() {

@@ -6,6 +6,7 @@
 // loudly logged fallback to the CPU backend (reported in /diagnostics)
 // otherwise.
 #include "hapi_eskf/covariance_backend.hpp"
+#include "nodelet_observer.hpp"
 #include "synthetic_frames.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -39,12 +40,7 @@ void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
     for (const auto& kv : s.values) diag[s.name][kv.key] = kv.value;
   statuses.insert(statuses.end(), m->status.begin(), m->status.end());
 }
-template <typename P>
-bool waitFor(P p, double s) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(s);
-  while (ros::ok() && ros::WallTime::now() < end && !p()) ros::WallDuration(0.01).sleep();
-  return p();
-}
+using hapi_eskf_test::waitFor;
 // A /rosout message of at least `level` containing `text`.
 bool logged(std::uint8_t level, const std::string& text, double timeout = 5.0) {
   return waitFor([&] {
