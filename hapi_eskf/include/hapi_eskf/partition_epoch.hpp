@@ -10,6 +10,7 @@
 #pragma once
 
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/removal_plan.hpp"
 
 #include <algorithm>
 #include <vector>
@@ -60,21 +61,24 @@ inline KeptActive keptAfterRemoval(const std::vector<int>& slots, int num_landma
   return kept;
 }
 
-// After a removal moved landmarks between slots (new_of_old[k]: the new
-// slot of old slot k, -1 when removed): the per-slot basis flags, the active
-// list and positions (the kept active landmarks `kept_active`, old slots in
-// active order, after the pose_dim pose rows) and the basis list, renumbered.
-inline void renumberAfterRemoval(const std::vector<int>& new_of_old, const std::vector<int>& kept_active,
-                                 int pose_dim, std::vector<char>* in_basis, std::vector<int>* active,
+// After a removal of `kept.removed` whose kept landmarks moved between slots
+// as `moves` say: the per-slot basis flags, the active list and positions
+// (the kept active landmarks, in active order, after the pose_dim pose rows)
+// and the basis list, renumbered to the new slots.
+inline void renumberAfterRemoval(const KeptActive& kept, const std::vector<SlotMove>& moves, int pose_dim,
+                                 std::vector<char>* in_basis, std::vector<int>* active,
                                  std::vector<int>* active_pos, std::vector<int>* basis) {
+  std::vector<int> new_of_old(kept.removed.size());  // new slot of old slot k, -1 when removed
+  for (std::size_t k = 0; k < new_of_old.size(); ++k) new_of_old[k] = kept.removed[k] ? -1 : static_cast<int>(k);
+  for (const SlotMove& mv : moves) new_of_old[mv.from] = mv.to;
   std::vector<char> basis_new(in_basis->size(), 0);
   for (std::size_t k = 0; k < new_of_old.size(); ++k)
     if (new_of_old[k] >= 0) basis_new[new_of_old[k]] = (*in_basis)[k];
   in_basis->swap(basis_new);
   active->clear();
   std::fill(active_pos->begin(), active_pos->end(), -1);
-  for (std::size_t i = 0; i < kept_active.size(); ++i) {
-    const int s = new_of_old[kept_active[i]];
+  for (std::size_t i = 0; i < kept.landmarks.size(); ++i) {
+    const int s = new_of_old[kept.landmarks[i]];
     active->push_back(s);
     (*active_pos)[s] = pose_dim + 3 * static_cast<int>(i);
   }

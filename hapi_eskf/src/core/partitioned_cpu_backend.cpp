@@ -258,16 +258,13 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     }
     const int P = poseDim();
     const std::vector<SlotMove> moves = lower_triangle::fillHolesFromTail(&C_, K_, slots, P);
-    std::vector<int> new_of_old(K_);
-    for (int k = 0; k < K_; ++k) new_of_old[k] = kept.removed[k] ? -1 : k;
     for (const SlotMove& mv : moves) {
-      new_of_old[mv.from] = mv.to;
       X_.middleRows(row(mv.to), 3) = X_.middleRows(row(mv.from), 3);
       if (desc_len_ > 0)
         std::memcpy(&desc_[static_cast<std::size_t>(mv.to) * desc_len_],
                     &desc_[static_cast<std::size_t>(mv.from) * desc_len_], desc_len_);
     }
-    partition::renumberAfterRemoval(new_of_old, kept_active, P, &in_basis_, &active_, &active_pos_, &basis_);
+    partition::renumberAfterRemoval(kept, moves, P, &in_basis_, &active_, &active_pos_, &basis_);
     K_ -= static_cast<int>(slots.size());
     return Status::kOk;
   }

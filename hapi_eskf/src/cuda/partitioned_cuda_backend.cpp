@@ -361,10 +361,7 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
                                       a0, cudaMemcpyDeviceToDevice, stream_));
     const Status st = dense_->removeLandmarks(slots);  // synchronises the shared stream
     if (st != Status::kOk) return st;
-    std::vector<int> new_of_old(K);
-    for (int k = 0; k < K; ++k) new_of_old[k] = kept.removed[k] ? -1 : k;
-    for (const SlotMove& mv : moves) new_of_old[mv.from] = mv.to;
-    partition::renumberAfterRemoval(new_of_old, kept_active, P, &in_basis_, &active_, &active_pos_, &basis_);
+    partition::renumberAfterRemoval(kept, moves, P, &in_basis_, &active_, &active_pos_, &basis_);
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     return Status::kOk;
   }
