@@ -7,11 +7,14 @@
 //                   [--cuda-rank-update auto|syrk|gemm|recursive]
 //                   [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]
 //                   [--cpu-la blas,eigen] [--covariance-update dense,partitioned]
-//                   [--partition-max-active N] [--scenario random|sweep] [--sweep-step N]
+//                   [--partition-max-active N] [--partition-flush-shares 1,4,...]
+//                   [--scenario random|sweep] [--sweep-step N]
 //                   [--no-cpu-rates]
 // CPU rows: one per --cpu-la x --covariance-update pair (cpu-blas,
 // cpu-eigen, cpu-blas-partitioned, ...), CUDA rows one per --covariance-update
-// (cuda-fp64, cuda-fp64-partitioned), side by side in the same run, with
+// (cuda-fp64, cuda-fp64-partitioned), a partitioned row per
+// --partition-flush-shares value (named "... shares N" when N > 1), side by
+// side in the same run, with
 // this machine's DGEMM/DSYRK rates measured first (cpu_ceilings.hpp).
 // --scenario: which landmarks a frame re-observes (scenario.hpp Visibility):
 // random (the visible set jumps every frame, the default) or sweep.
@@ -55,6 +58,7 @@ struct Options {
   std::vector<CpuLinearAlgebra> cpu_la = {CpuLinearAlgebra::kBlas, CpuLinearAlgebra::kEigen};
   std::vector<CovarianceUpdate> cov_update = {CovarianceUpdate::kDense};
   int partition_max_active = EskfSettings().partition_max_active;
+  std::vector<int> partition_flush_shares = {EskfSettings().partition_flush_shares};
   Visibility visibility = Visibility::kRandom;
   int sweep_step = 10;
   bool cpu_rates = true;
@@ -69,7 +73,7 @@ std::vector<E> parseList(const std::string& text, const char* flag);
                "       [--precision fp64|fp32] [--cpu-max-k K] [--visible L] [--fresh M] [--rank-reps N]\n"
                "       [--cuda-rank-update auto|syrk|gemm|recursive] [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]\n"
                "       [--cpu-la blas,eigen] [--covariance-update dense,partitioned] [--partition-max-active N]\n"
-               "       [--scenario random|sweep] [--sweep-step N] [--no-cpu-rates]\n",
+               "       [--partition-flush-shares 1,4] [--scenario random|sweep] [--sweep-step N] [--no-cpu-rates]\n",
                msg);
   std::exit(2);
 }
@@ -81,6 +85,15 @@ int toInt(const char* s, const char* flag) {
   return static_cast<int>(v);
 }
 
+std::vector<int> intList(const char* text, const char* flag) {
+  std::vector<int> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(toInt(item.c_str(), flag));
+  if (out.empty()) usage((std::string(flag) + " needs at least one value").c_str());
+  return out;
+}
+
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -90,11 +103,7 @@ Options parse(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--k") {
-      o.ks.clear();
-      std::stringstream ss(next());
-      std::string item;
-      while (std::getline(ss, item, ',')) o.ks.push_back(toInt(item.c_str(), "--k"));
-      if (o.ks.empty()) usage("--k needs at least one value");
+      o.ks = intList(next(), "--k");
     } else if (a == "--iters") {
       o.iters = toInt(next(), "--iters");
     } else if (a == "--cpu-iters") {
@@ -123,6 +132,8 @@ Options parse(int argc, char** argv) {
       o.cov_update = parseList<CovarianceUpdate>(next(), "--covariance-update");
     } else if (a == "--partition-max-active") {
       o.partition_max_active = toInt(next(), "--partition-max-active");
+    } else if (a == "--partition-flush-shares") {
+      o.partition_flush_shares = intList(next(), "--partition-flush-shares");
     } else if (a == "--scenario") {
       const std::string v = next();
       if (v == "random") o.visibility = Visibility::kRandom;
@@ -321,6 +332,17 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   std::map<int, RankUpdateTiming> rank;
+  // Rows per backend: (covariance update, flush shares): the dense update
+  // once, the partitioned one per --partition-flush-shares value.
+  std::vector<std::pair<CovarianceUpdate, int>> variants;
+  for (CovarianceUpdate cu : o.cov_update)
+    if (cu == CovarianceUpdate::kPartitioned)
+      for (int shares : o.partition_flush_shares) variants.emplace_back(cu, shares);
+    else
+      variants.emplace_back(cu, 1);
+  auto label = [](const std::string& name, int shares) {
+    return shares > 1 ? name + " shares " + std::to_string(shares) : name;
+  };
   for (int K : o.ks) {
     if (have_cuda) {
       const int n = stateDim(K, kCameraMotionDim);
@@ -335,35 +357,38 @@ int main(int argc, char** argv) {
       }
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
       // One row per --covariance-update (the partitioned one FP64 only).
-      for (CovarianceUpdate cu : o.cov_update) {
+      for (const auto& [cu, shares] : variants) {
         std::string err;
         EskfSettings s = o.backend;
         s.covariance_update = cu;
         s.partition_max_active = o.partition_max_active;
+        s.partition_flush_shares = shares;
         auto b = cu == CovarianceUpdate::kPartitioned
                      ? cuda::makePartitionedCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, s, &err)
                      : cuda::makeCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, s, &err);
         if (!b) {
           Row r;
-          r.backend = std::string("cuda-") + toString(o.backend.precision) +
-                      (cu == CovarianceUpdate::kPartitioned ? "-partitioned" : "");
+          r.backend = label(std::string("cuda-") + toString(o.backend.precision) +
+                                (cu == CovarianceUpdate::kPartitioned ? "-partitioned" : ""),
+                            shares);
           r.K = K;
           r.note = err;
           rows.push_back(r);
         } else {
-          const std::string name = b->name();  // before the move (argument order is unspecified)
+          const std::string name = label(b->name(), shares);  // before the move (argument order is unspecified)
           rows.push_back(run(name, std::move(b), K, o.iters, o.warmup, o));
         }
       }
 #endif
     }
     if (o.cpu && K <= o.cpu_max_k)
-      for (CovarianceUpdate cu : o.cov_update)
+      for (const auto& [cu, shares] : variants)
         for (CpuLinearAlgebra la : o.cpu_la) {
           auto b = cu == CovarianceUpdate::kPartitioned
-                       ? makePartitionedCpuBackend(K, Scenario::kDescLen, kCameraMotionDim, la, o.partition_max_active)
+                       ? makePartitionedCpuBackend(K, Scenario::kDescLen, kCameraMotionDim, la, o.partition_max_active,
+                                                   shares)
                        : makeCpuBackend(K, Scenario::kDescLen, kCameraMotionDim, la);
-          const std::string name = b->name();
+          const std::string name = label(b->name(), shares);
           rows.push_back(run(name, std::move(b), K, o.cpu_iters, o.cpu_warmup, o));
         }
     for (const Row& r : rows)

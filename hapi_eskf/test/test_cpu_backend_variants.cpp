@@ -37,7 +37,7 @@ TEST(CpuBackendVariants, PartitionedEqualsDenseOverLongSequences) {
   for (CpuLinearAlgebra la : {CpuLinearAlgebra::kBlas, CpuLinearAlgebra::kEigen}) {
     for (int P : {kCameraMotionDim, kMaxPoseDim}) {
       // max_active 30: the active part fills up and is flushed many times.
-      auto part = makePartitionedCpuBackend(100, 8, P, la, 30);
+      auto part = makePartitionedCpuBackend(100, 8, P, la, 30, 1);
       auto dense = makeCpuBackend(100, 8, P, la);
       ASSERT_TRUE(part && dense);
       Counts c;
@@ -56,12 +56,34 @@ TEST(CpuBackendVariants, PartitionedEqualsDenseOverLongSequences) {
   }
 }
 
+// Staged flushes (docs/DESIGN.md "Staged flush"): the passive part of each
+// flush pending over the next 2 or 5 updates, while joins and passive
+// marginals read the stored C, removals move pending entries across the
+// applied rows, and the next flush or a read-back finishes it early.
+TEST(CpuBackendVariants, PartitionedStagedFlushEqualsDense) {
+  for (int shares : {2, 5}) {
+    for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+      auto part = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares);
+      auto dense = makeCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas);
+      ASSERT_TRUE(part && dense);
+      Counts c;
+      runSequence(part.get(), dense.get(), 51 + P + shares, 300, 37, P, &c);
+      int flushes = 0;
+      double seconds = 0;
+      ASSERT_TRUE(partitionedFlushStats(*part, &flushes, &seconds));
+      EXPECT_GT(flushes, 10) << "the sequence must exercise flushes";
+      EXPECT_GT(c.removals, 50);
+    }
+  }
+  EXPECT_FALSE(makePartitionedCpuBackend(100, 8, kCameraMotionDim, CpuLinearAlgebra::kBlas, 30, 0));
+}
+
 // A large active budget: flushes only where the view jumps (an update with
 // mostly passive landmarks) and at the final read-back, so long epochs with
 // stray observations from other areas and removals of passive landmarks
 // carry the deferred correction.
 TEST(CpuBackendVariants, PartitionedLongEpochEqualsDense) {
-  auto part = makePartitionedCpuBackend(150, 8, kCameraMotionDim, CpuLinearAlgebra::kBlas, 1000);
+  auto part = makePartitionedCpuBackend(150, 8, kCameraMotionDim, CpuLinearAlgebra::kBlas, 1000, 1);
   auto dense = makeCpuBackend(150, 8, kCameraMotionDim, CpuLinearAlgebra::kBlas);
   Counts c;
   runSequence(part.get(), dense.get(), 41, 300, 1000, kCameraMotionDim, &c);

@@ -16,5 +16,13 @@ TEST(PartitionedFilter, TunedSettingsMatchDenseFilter) {
   runFilters(s, 150, 50);
 }
 
+// The staged flush (docs/DESIGN.md "Staged flush"): each flush's passive part
+// over the next 3 updates, in the whole filter.
+TEST(PartitionedFilter, StagedFlushMatchesDenseFilter) {
+  EskfSettings s = testing_settings::basicFilter();
+  s.partition_flush_shares = 3;
+  runFilters(s, 150, 30);
+}
+
 }  // namespace
 }  // namespace hapi_eskf

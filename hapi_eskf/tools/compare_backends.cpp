@@ -5,7 +5,7 @@
 // tools/eval/compare_backends.py runs it for every back end and writes the
 // table and the plots (docs/BACKENDS.md).
 //
-//   compare_backends STREAM.txt|--synthetic-orbit[=SEED] --algorithm eskf|seif|graph|fastslam2 --out DIR [--label NAME]
+//   compare_backends STREAM.txt|--synthetic-orbit[=SEED,...] --algorithm eskf|seif|graph|fastslam2 --out DIR [--label NAME]
 //                    [--frames N] [--truth-offset S] [key=value ...]
 //
 // --truth-offset: t_truth = t_frame + S (the simulator's truth is on the IMU
@@ -37,7 +37,7 @@
 #include "hapi_eskf/slam_backend.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "landmark_stream.hpp"
-#include "synthetic_orbit.hpp"
+#include "stream_source.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -111,9 +111,9 @@ double quantile(std::vector<double> v, double q) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const char* usage =
-      "usage: compare_backends STREAM.txt|--synthetic-orbit[=SEED] --algorithm eskf|seif|graph|fastslam2 --out DIR [--label NAME] "
-      "[--frames N] [--truth-offset S] [key=value ...]\n";
+  const std::string usage = std::string("usage: compare_backends ") + tools::kStreamSourceUsage +
+                            " --algorithm eskf|seif|graph|fastslam2 --out DIR [--label NAME] "
+                            "[--frames N] [--truth-offset S] [key=value ...]\n";
   if (argc < 2 || std::string(argv[1]) == "--help") {
     std::cerr << usage;
     return argc < 2 ? 1 : 0;
@@ -146,12 +146,7 @@ int main(int argc, char** argv) {
   }
   tools::LandmarkStream stream;
   std::string err;
-  const std::string source = argv[1];
-  if (source.rfind("--synthetic-orbit", 0) == 0) {
-    tools::SyntheticOrbitOptions o;
-    if (source.size() > 18) o.seed = static_cast<unsigned>(std::stoul(source.substr(18)));
-    stream = tools::makeSyntheticOrbit(o);
-  } else if (!tools::readLandmarkStream(source, &stream, &err)) {
+  if (!tools::loadStreamSource(argv[1], &stream, &err)) {
     std::cerr << err << "\n";
     return 1;
   }

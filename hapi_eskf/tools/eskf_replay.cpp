@@ -1,10 +1,11 @@
 // eskf_replay: runs the ROS-free filter on front-end frames dumped from a bag
-// (dump_frames.py) without any real-time pressure, and prints the accuracy
+// (dump_frames.py), or on the synthetic orbit (stream_source.hpp), without
+// any real-time pressure, and prints the accuracy
 // numbers the e2e test checks (ATE after rigid alignment, % of distance, map
 // RMS to the true sphere) plus per-frame filter statistics. A development
 // tool for studying accuracy and consistency; not a test.
 //
-//   eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--verbose] [--out PREFIX] [key=value ...]
+//   eskf_replay FRAMES.txt|--synthetic-orbit[=SEED,...] [--every k] [--gap START LEN] [--verbose] [--out PREFIX] [key=value ...]
 //
 // With motion_model=gyro or inertial the stream's IMU samples (and its
 // extrinsic) drive the prediction exactly as in the nodelet: every sample up
@@ -31,6 +32,7 @@
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/pose_propagator.hpp"
 #include "landmark_stream.hpp"
+#include "stream_source.hpp"
 
 #include <Eigen/SVD>
 
@@ -66,10 +68,10 @@ void alignRigid(const std::vector<Vec3>& e, const std::vector<Vec3>& g, Mat3* R,
 }  // namespace
 
 int main(int argc, char** argv) {
-  const char* usage =
-      "usage: eskf_replay FRAMES.txt [--every k] [--gap START LEN] [--gtcheck] [--verbose] [--out PREFIX] "
-      "[key=value ...]\n"
-      "       eskf_replay --help   (lists the settings key=value may set)\n";
+  const std::string usage = std::string("usage: eskf_replay ") + tools::kStreamSourceUsage +
+                            " [--every k] [--gap START LEN] [--gtcheck] [--verbose] [--out PREFIX] "
+                            "[key=value ...]\n"
+                            "       eskf_replay --help   (lists the settings key=value may set)\n";
   if (argc >= 2 && std::string(argv[1]) == "--help") {
     std::cout << usage << "settings (EskfSettings, config/eskf.yaml):\n";
     const EskfSettings defaults;
@@ -112,7 +114,7 @@ int main(int argc, char** argv) {
 
   tools::LandmarkStream stream;
   std::string read_error;
-  if (!tools::readLandmarkStream(argv[1], &stream, &read_error)) {
+  if (!tools::loadStreamSource(argv[1], &stream, &read_error)) {
     std::cerr << read_error << "\n";
     return 1;
   }

@@ -2,9 +2,11 @@
 # One device call for the GPU-fault handling (docs/RELIABILITY.md "GPU
 # faults"): build the ROS-free hapi_eskf core, run its gtests (the fault
 # tests test_eskf_cuda_faults and the CPU/GPU parity tests included), then
-# the replay soak of the CUDA backend when a long frame stream was carried
+# the replay soak of the CUDA backend on a long frame stream: a carried
+# frames file or the synthetic orbit, which needs no carrying
 # (docs/RELIABILITY.md "Full-pool soak"). Logs go to $OUT (or ./device-out).
-#   tools/device/faults_gpu_run.sh [STREAM.txt]   (carry .device, see prepare.sh)
+#   tools/device/faults_gpu_run.sh [STREAM.txt|--synthetic-orbit=SEED,frames=N,...]
+#   (carry .device/eigen3 and .device/googletest, see prepare.sh)
 set -uo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 OUT="${OUT:-$REPO/device-out}"
@@ -19,6 +21,6 @@ tail -25 "$OUT/ctest.log"
 # The fault test's own output (the CUDA error text, skips).
 "$(find "$B" -name test_eskf_cuda_faults -type f | head -1)" 2>&1 | tee "$OUT/faults.log" | grep -E "CUDA error|OK|FAILED|SKIP|PASSED"
 if [ -n "${1:-}" ]; then
-  python3 "$REPO/test/reliability/replay_soak.py" --replay "$B/hapi_eskf/tools/eskf_replay" --stream "$1" \
+  python3 "$REPO/test/reliability/replay_soak.py" --replay "$B/hapi_eskf/tools/eskf_replay" --stream="$1" \
     --out "$OUT/replay_soak" backend=cuda 2>&1 | tee "$OUT/replay_soak.log" | tail -20
 fi

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # One device call for the partitioned CUDA update (docs/DESIGN.md
-# "Partitioned update"): build the ROS-free core, run every hapi_eskf test
-# (GPU tests included), then the benchmark, FP64, dense against partitioned
-# in the same run: the sweep scenario (the view advances 10 of 200 visible
-# landmarks per frame) and the worst case (the visible set jumps every
-# frame), at K = 8000 and 32000, the partition_max_active trade-off at
-# K = 32000, then K = 45000. Logs go to $OUT (or
-# ./device-out); the tables are printed at the end.
-#   tools/device/partitioned_gpu_run.sh          (carry .device, see prepare.sh)
+# "Partitioned update", "Staged flush"): build the ROS-free core, run the
+# partitioned tests (GPU and CPU), then the benchmark, FP64, dense against
+# partitioned with the flush at once and staged (--partition-flush-shares,
+# default 1,4) in the same run: the sweep scenario (the view advances 10 of
+# 200 visible landmarks per frame) and the worst case (the visible set jumps
+# every frame) at K = 8000 and 32000; with `45000` as the first argument also
+# the sweep at K = 45000 (C alone takes 136 of the card's 140 GiB). The other
+# tests last. Logs go to $OUT (or ./device-out); the tables are printed at
+# the end.
+#   tools/device/partitioned_gpu_run.sh [45000]     (carry .device, see prepare.sh)
 set -uo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 OUT="${OUT:-$REPO/device-out}"
@@ -21,24 +23,19 @@ FIRST="cuda_partitioned|cpu_backend_variants|partitioned_filter"
 (cd "$B" && ctest -R "$FIRST" --timeout 400 --output-on-failure 2>&1) >"$OUT/ctest.log"
 grep -E "tests passed|Failed|\*\*\*|FAILED|Test +#" "$OUT/ctest.log" | tail -12
 BENCH="$B/hapi_eskf/bench/hapi_eskf_bench"
-COMMON=(--backend cuda --covariance-update dense,partitioned --rank-reps 0)
+SHARES="${PARTITION_FLUSH_SHARES:-1,4}"
+COMMON=(--backend cuda --covariance-update dense,partitioned --partition-flush-shares "$SHARES" --rank-reps 0)
 timeout 240 "$BENCH" "${COMMON[@]}" --scenario sweep --k 8000,32000 --iters 60 >"$OUT/bench_sweep.log" 2>&1
-timeout 240 "$BENCH" "${COMMON[@]}" --scenario random --k 8000,32000 --iters 20 >"$OUT/bench_random.log" 2>&1
-# The partition_max_active trade-off on the sweep (partitioned rows only).
-PART=(--backend cuda --covariance-update partitioned --rank-reps 0 --scenario sweep)
-for a in 300 1200; do
-  timeout 120 "$BENCH" "${PART[@]}" --k 32000 --iters 60 --partition-max-active "$a" >>"$OUT/bench_active.log" 2>&1
-done
-# K = 45000: C alone takes 136 of the card's 140 GiB; the default active
-# budget and a smaller one (a smaller X beside C).
-timeout 240 "$BENCH" "${COMMON[@]}" --scenario sweep --k 45000 --iters 40 >"$OUT/bench_45000.log" 2>&1
-timeout 120 "$BENCH" "${PART[@]}" --k 45000 --iters 40 --partition-max-active 300 >>"$OUT/bench_45000.log" 2>&1
-timeout 240 "$BENCH" "${COMMON[@]}" --scenario random --k 45000 --iters 8 >>"$OUT/bench_45000.log" 2>&1
+timeout 150 "$BENCH" "${COMMON[@]}" --scenario random --k 8000,32000 --iters 20 >"$OUT/bench_random.log" 2>&1
+if [ "${1:-}" = 45000 ]; then
+  timeout 240 "$BENCH" "${COMMON[@]}" --scenario sweep --k 45000 --iters 40 >"$OUT/bench_45000.log" 2>&1
+fi
 nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw,clocks_event_reasons.active --format=csv,noheader \
   | tee -a "$OUT/device.txt"
 (cd "$B" && ctest -E "$FIRST" -j4 --timeout 400 --output-on-failure 2>&1) >>"$OUT/ctest.log"
 grep -E "tests passed|\*\*\*|FAILED" "$OUT/ctest.log" | tail -12
-for f in bench_sweep bench_random bench_active bench_45000; do
+for f in bench_sweep bench_random bench_45000; do
+  [ -f "$OUT/$f.log" ] || continue
   echo "=== $f"
   grep -E "^scenario|^device|^ceilings|^\| (backend|cuda)" "$OUT/$f.log"
 done

@@ -162,10 +162,12 @@ std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_l
                                                   CpuLinearAlgebra la = CpuLinearAlgebra::kBlas);
 // The partitioned CPU backend (docs/DESIGN.md "Partitioned update"): exact,
 // per-update work in the active landmarks, the rest of C deferred to a flush
-// when more than max_active landmarks are active. Same contract and results
-// as makeCpuBackend's; nullptr on bad sizes (max_active < 1 too).
+// when more than max_active landmarks are active, its passive part applied in
+// flush_shares shares over the next updates (1: at once; "Staged flush").
+// Same contract and results as makeCpuBackend's; nullptr on bad sizes
+// (max_active < 1 or flush_shares < 1 too).
 std::unique_ptr<CovarianceBackend> makePartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim,
-                                                             CpuLinearAlgebra la, int max_active);
+                                                             CpuLinearAlgebra la, int max_active, int flush_shares);
 // Flush accounting of the partitioned backends (CPU and CUDA), read through
 // partitionedFlushStats.
 class PartitionedFlushCounter {

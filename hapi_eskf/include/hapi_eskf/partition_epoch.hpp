@@ -6,7 +6,11 @@
 // joining is no cheaper than the dense update (their basis rows would make
 // the next flush cost as much), so the backend flushes, updates the stored C
 // densely and starts a new epoch in which the observed landmarks are active
-// (joined while Psi = 0: cheap).
+// (joined while Psi = 0: cheap). Not so in the first update of an epoch that a
+// staged flush began (staged_flush.hpp): its whole view is passive, but the
+// dense update would first have to finish the pending correction, so the view
+// joins (Psi = 0: cheap) and its rank update goes to the next flush, whose
+// shares are spread over later updates.
 #pragma once
 
 #include "hapi_eskf/covariance_backend.hpp"
@@ -25,12 +29,14 @@ struct EpochStep {
   std::vector<int> join;  // slots: every observed one (new epoch) or the passive ones
 };
 
-// `active_pos[slot]` < 0: the landmark in `slot` is passive.
-inline EpochStep planEpochStep(const std::vector<MeasurementBlock>& blocks, const std::vector<int>& active_pos) {
+// `active_pos[slot]` < 0: the landmark in `slot` is passive. `after_staged_flush`:
+// the epoch began at a staged flush and has had no update yet.
+inline EpochStep planEpochStep(const std::vector<MeasurementBlock>& blocks, const std::vector<int>& active_pos,
+                               bool after_staged_flush) {
   EpochStep step;
   for (const MeasurementBlock& b : blocks)
     if (active_pos[b.slot] < 0) step.join.push_back(b.slot);
-  step.new_epoch = 2 * step.join.size() > blocks.size();
+  step.new_epoch = !after_staged_flush && 2 * step.join.size() > blocks.size();
   if (step.new_epoch) {
     step.join.clear();
     for (const MeasurementBlock& b : blocks) step.join.push_back(b.slot);

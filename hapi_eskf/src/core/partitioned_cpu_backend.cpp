@@ -15,12 +15,19 @@
 //   C_BB = C^0_BB - C^0_{B,A0} Psi C^0_{A0,B},
 // and X_ caches C^0_{.,A0} (the basis columns of the stored C). The means are
 // never deferred: every update returns the full dx (dx_B = C^0_{B,A0} W y).
+//
+// Staged flush (flush_shares > 1, docs/DESIGN.md "Staged flush"): a flush
+// writes the active rows and leaves C_BB's correction pending (Xp_, Psip_),
+// applied in row shares by the next updates (staged_flush.hpp); every read of
+// the stored C in between (joins, passive marginals) subtracts what its
+// entries still owe, and removals keep the debt where slot moves take it.
 #include "cpu_linear_algebra.hpp"
 #include "cpu_update_steps.hpp"
 #include "lower_triangle.hpp"
 #include "hapi_eskf/covariance_backend.hpp"
 #include "hapi_eskf/descriptor_pool.hpp"
 #include "hapi_eskf/partition_epoch.hpp"
+#include "hapi_eskf/staged_flush.hpp"
 #include "hapi_eskf/jacobians.hpp"
 
 #include <algorithm>
@@ -35,12 +42,14 @@ using Eigen::VectorXd;
 
 class PartitionedCpuBackend final : public CovarianceBackend, public PartitionedFlushCounter {
  public:
-  PartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim, CpuLinearAlgebra la, int max_active)
+  PartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim, CpuLinearAlgebra la, int max_active,
+                        int flush_shares)
       : CovarianceBackend(pose_dim),
         la_(cpu_la::effective(la)),
         capacity_(capacity),
         desc_len_(descriptor_length),
         max_active_(max_active),
+        flush_shares_(flush_shares),
         N_(stateDim(capacity, pose_dim)),
         C_(MatrixXd::Zero(N_, N_)),
         desc_(static_cast<std::size_t>(capacity) * descriptor_length, 0),
@@ -56,7 +65,8 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   int numLandmarks() const override { return K_; }
   int descriptorLength() const override { return desc_len_; }
   std::size_t memoryBytes() const override {
-    return sizeof(double) * (static_cast<std::size_t>(N_) * N_ + X_.size() + Caa_.size() + Phi_.size() + Psi_.size()) +
+    return sizeof(double) * (static_cast<std::size_t>(N_) * N_ + X_.size() + Caa_.size() + Phi_.size() + Psi_.size() +
+                             Xp_.size() + Psip_.size()) +
            desc_.size();
   }
 
@@ -65,13 +75,13 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   // is pending; the pose block is current without one.
   PoseMat poseCovariance() const override { return Caa_.topLeftCorner(poseDim(), poseDim()); }
   std::vector<Mat3> landmarkCovariances() const override {
-    flush();
+    flush(true);
     std::vector<Mat3> out(K_);
     for (int k = 0; k < K_; ++k) out[k] = lower_triangle::symmetricBlock(C_, row(k), 3);
     return out;
   }
   MatrixXd denseCovariance() const override {
-    flush();
+    flush(true);
     return lower_triangle::symmetricBlock(C_, 0, dim());
   }
   std::vector<uint8_t> descriptors() const override {
@@ -89,6 +99,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     std::fill(active_pos_.begin(), active_pos_.end(), -1);
     std::fill(in_basis_.begin(), in_basis_.end(), 0);
     C_.topLeftCorner(poseDim(), poseDim()) = C_pose;
+    pend_left_ = 0;
     startEpoch();
     return Status::kOk;
   }
@@ -133,7 +144,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
       } else {
         const int r = row(slots[i]);
         M.block<3, 6>(6, 0) = CbPhi.middleRows<3>(3 * u);
-        const Mat3 Cjj = lower_triangle::symmetricBlock(C_, r, 3) -
+        const Mat3 Cjj = storedBlock(r) -
                          CbPsi.middleRows<3>(3 * u) * Cb.middleRows<3>(3 * u).transpose();
         M.block<3, 3>(6, 6) = 0.5 * (Cjj + Cjj.transpose());
         ++u;
@@ -144,9 +155,10 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
-    const partition::EpochStep step = partition::planEpochStep(blocks, active_pos_);
+    const partition::EpochStep step = partition::planEpochStep(blocks, active_pos_, join_view_);
+    join_view_ = false;
     if (step.new_epoch) {
-      flush();
+      flush(true);
       const Status st = cpu_update::denseUpdateLower(la_, &C_, dim(), poseDim(), blocks, dx, nis);
       if (st != Status::kOk) return st;
       startEpoch();
@@ -201,6 +213,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     *dx = std::move(dxn);
     if (nis) *nis = y.squaredNorm();
     updated_in_epoch_ = true;
+    advancePending();
     if (activeLandmarks() > max_active_) flush();
     return Status::kOk;
   }
@@ -260,12 +273,15 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     const std::vector<SlotMove> moves = lower_triangle::fillHolesFromTail(&C_, K_, slots, P);
     for (const SlotMove& mv : moves) {
       X_.middleRows(row(mv.to), 3) = X_.middleRows(row(mv.from), 3);
+      if (pending()) Xp_.middleRows(row(mv.to), 3) = Xp_.middleRows(row(mv.from), 3);
       if (desc_len_ > 0)
         std::memcpy(&desc_[static_cast<std::size_t>(mv.to) * desc_len_],
                     &desc_[static_cast<std::size_t>(mv.from) * desc_len_], desc_len_);
     }
     partition::renumberAfterRemoval(kept, moves, P, &in_basis_, &active_, &active_pos_, &basis_);
+    const int n_old = dim();
     K_ -= static_cast<int>(slots.size());
+    if (pending()) settleMovedDebt(moves, n_old);
     return Status::kOk;
   }
 
@@ -310,17 +326,16 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     if (J.empty()) return;
     const int a = activeDim(), a0 = basisDim(), n = dim(), nj = 3 * static_cast<int>(J.size());
     MatrixXd cJ(nj, a0);  // c_J^T
-    MatrixXd C0JJ(nj, nj);
+    std::vector<int> cols;
+    for (int s : J)
+      for (int r = 0; r < 3; ++r) cols.push_back(row(s) + r);
+    MatrixXd G(n, nj);  // C^0_{.,J}
     for (std::size_t u = 0; u < J.size(); ++u) {
       cJ.middleRows(3 * u, 3) = X_.middleRows(row(J[u]), 3);
-      for (std::size_t v = 0; v <= u; ++v)
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) {
-            const int i = row(J[u]) + r, j = row(J[v]) + c;
-            C0JJ(3 * u + r, 3 * v + c) = i >= j ? C_(i, j) : C_(j, i);
-          }
+      lower_triangle::gatherColumns(C_, row(J[u]), 3, n, G.middleCols(3 * u, 3));
     }
-    C0JJ.triangularView<Eigen::StrictlyUpper>() = C0JJ.transpose();
+    subtractPending(cols, &G);
+    const MatrixXd C0JJ = G(cols, Eigen::all);
     MatrixXd cPsi, CAJ;
     cpu_la::gemm(la_, false, false, 1.0, cJ, Psi_, 0.0, &cPsi);  // nj x a0
     cpu_la::gemm(la_, false, true, 1.0, Phi_, cJ, 0.0, &CAJ);    // a x nj
@@ -332,8 +347,8 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     Caa_.block(a, a, nj, nj) = CJJ;
     Phi_.block(a, 0, nj, a0) = -cPsi;
     Phi_.block(a, a0, nj, nj).setIdentity();
+    X_.block(0, a0, n, nj) = G;
     for (std::size_t u = 0; u < J.size(); ++u) {
-      lower_triangle::gatherColumns(C_, row(J[u]), 3, n, X_.block(0, a0 + 3 * u, n, 3));
       active_pos_[J[u]] = a + 3 * static_cast<int>(u);
       active_.push_back(J[u]);
       in_basis_[J[u]] = 1;
@@ -345,13 +360,17 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   //   C_BB <- C^0_BB - (X Psi) X^T (one rank-a0 product over the whole lower
   //   triangle; the active rows it also touches are overwritten next),
   //   row of active index i <- (Phi X^T)_i outside A, Caa_ inside A.
+  // Staged (flush_shares > 1, not `complete`): C_BB's product is left
+  // pending instead (startPending). One correction is pending at a time: an
+  // earlier one is finished first.
   // Logically const: the represented covariance does not change (the object
   // itself is never const, so the cast is defined; callers hold the filter's lock).
-  void flush() const {
+  void flush(bool complete = false) const {
     auto* self = const_cast<PartitionedCpuBackend*>(this);
-    self->doFlush();
+    self->doFlush(complete || flush_shares_ <= 1);
   }
-  void doFlush() {
+  void doFlush(bool at_once) {
+    applyPendingRows(dim());
     const int a = activeDim(), P = poseDim();
     if (a == P && basisDim() == P && Psi_.isZero(0.0) && Phi_.isIdentity(0.0)) {
       startEpoch();  // pose-only epoch, nothing but the pose block to write
@@ -362,9 +381,11 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     const MatrixXd X = X_.topRows(n);
     MatrixXd R;
     if (updated_in_epoch_) {
-      MatrixXd T;
-      cpu_la::gemm(la_, false, false, 1.0, X, Psi_, 0.0, &T);  // n x a0
-      cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), T, X, -1.0);
+      if (at_once) {
+        MatrixXd T;
+        cpu_la::gemm(la_, false, false, 1.0, X, Psi_, 0.0, &T);  // n x a0
+        cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), T, X, -1.0);
+      }
       cpu_la::gemm(la_, false, true, 1.0, Phi_, X, 0.0, &R);  // a x n
     } else {
       // No update this epoch: Psi = 0 (C_BB is C^0_BB), a joined row of Phi
@@ -388,9 +409,109 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
       C_.row(s).head(s) = R.row(ia).head(s);
       C_.col(s).segment(s, n - s) = R.row(ia).segment(s, n - s).transpose();
     }
+    if (updated_in_epoch_ && !at_once) startPending();
     ++flushes_;
     flush_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     startEpoch();
+    join_view_ = !at_once;
+  }
+
+  // --- Staged flush (staged_flush.hpp) ---
+  bool pending() const { return pend_left_ > 0; }
+
+  // C_BB's correction of the epoch being flushed, pending: Xp = X with the
+  // active rows (and every row past the state) zero, so that the active rows
+  // just written and the landmarks added later owe nothing.
+  void startPending() {
+    const int n = dim();
+    Xp_ = X_;
+    Xp_.bottomRows(N_ - n).setZero();
+    for (int ia = 0; ia < activeDim(); ++ia) Xp_.row(stateIndex(ia)).setZero();
+    Psip_ = Psi_;
+    pend_done_ = 0;
+    pend_left_ = flush_shares_;
+  }
+
+  // Applies the pending correction to the rows [done, r1) of the lower
+  // triangle (a row panel: one GEMM left of the diagonal block, one
+  // triangular product on it).
+  void applyPendingRows(int r1) {
+    if (!pending()) return;
+    const int r0 = pend_done_, b = std::min(r1, dim()) - r0;
+    if (b > 0) {
+      const MatrixXd Xb = Xp_.middleRows(r0, b);
+      MatrixXd T, left;
+      cpu_la::gemm(la_, false, false, 1.0, Xb, Psip_, 0.0, &T);  // b x a0p
+      if (r0 > 0) {
+        cpu_la::gemm(la_, false, true, 1.0, T, MatrixXd(Xp_.topRows(r0)), 0.0, &left);
+        C_.block(r0, 0, b, r0) -= left;
+      }
+      cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data() + r0 + static_cast<std::size_t>(r0) * N_, b, b,
+                                                     Eigen::OuterStride<>(N_)),
+                                 T, Xb, -1.0);
+      pend_done_ = r0 + b;
+    }
+    if (pend_done_ >= dim()) pend_left_ = 0;
+  }
+
+  // One share per update, equal in work (partition::nextStagedRow).
+  void advancePending() {
+    if (!pending()) return;
+    const int r1 = partition::nextStagedRow(pend_done_, dim(), pend_left_);
+    if (pend_left_ > 1) --pend_left_;  // the last share ends at dim(), where applyPendingRows clears it
+    applyPendingRows(r1);
+  }
+
+  // G (n x |cols|, gathered columns `cols` of the stored C) minus what its
+  // entries still owe: G(i, u) -= Xp_i Psip Xp_{cols[u]}^T where pending.
+  void subtractPending(const std::vector<int>& cols, MatrixXd* G) const {
+    if (!pending() || cols.empty()) return;
+    const int n = static_cast<int>(G->rows());
+    MatrixXd XpPsi, D;
+    cpu_la::gemm(la_, false, false, 1.0, MatrixXd(Xp_(cols, Eigen::all)), Psip_, 0.0, &XpPsi);  // w x a0p
+    cpu_la::gemm(la_, false, true, 1.0, MatrixXd(Xp_.topRows(n)), XpPsi, 0.0, &D);               // n x w
+    for (std::size_t u = 0; u < cols.size(); ++u)
+      for (int i = 0; i < n; ++i)
+        if (partition::owesPending(i, cols[u], pend_done_)) (*G)(i, u) -= D(i, u);
+  }
+
+  // The 3 x 3 diagonal block at state row r of C^0 (what it still owes subtracted).
+  Mat3 storedBlock(int r) const {
+    Mat3 B = lower_triangle::symmetricBlock(C_, r, 3);
+    if (!pending()) return B;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic> x = Xp_.middleRows(r, 3);
+    const Mat3 D = x * Psip_ * x.transpose();
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k)
+        if (partition::owesPending(r + i, r + k, pend_done_)) B(i, k) -= D(i, k);
+    return B;
+  }
+
+  // After a removal's slot moves (C_ and Xp_ rows already moved; n_old the
+  // dimension before): the entries that moved before `done` pay their share
+  // now (partition::rowsSettledByMoves), the rows past the new dimension are
+  // cleared (landmarks added there owe nothing), and `done` is clipped.
+  void settleMovedDebt(const std::vector<SlotMove>& moves, int n_old) {
+    const int n = dim(), done = std::min(pend_done_, n);
+    const std::vector<int> ks = partition::rowsSettledByMoves(moves, pend_done_, poseDim());
+    if (!ks.empty() && done > 0) {
+      MatrixXd XpPsi, D;
+      cpu_la::gemm(la_, false, false, 1.0, MatrixXd(Xp_(ks, Eigen::all)), Psip_, 0.0, &XpPsi);
+      cpu_la::gemm(la_, false, true, 1.0, MatrixXd(Xp_.topRows(done)), XpPsi, 0.0, &D);  // done x |ks|
+      std::vector<char> settled(done, 0);
+      for (int k : ks) settled[k] = 1;
+      for (std::size_t u = 0; u < ks.size(); ++u) {
+        const int k = ks[u];
+        for (int i = 0; i < done; ++i) {
+          if (settled[i] && i > k) continue;  // a pair of two settled rows: once, at the larger column
+          if (i >= k) C_(i, k) -= D(i, u);
+          else C_(k, i) -= D(i, u);
+        }
+      }
+    }
+    Xp_.middleRows(n, n_old - n).setZero();
+    pend_done_ = done;
+    if (pend_done_ >= n) pend_left_ = 0;
   }
 
   // Active part = the pose, basis = the pose, Phi = I, Psi = 0.
@@ -412,6 +533,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   int capacity_;
   int desc_len_;
   int max_active_;
+  int flush_shares_;
   int N_;
   int K_ = 0;
   MatrixXd C_;
@@ -422,6 +544,12 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   std::vector<int> basis_;       // basis landmark slots, in basis order
   MatrixXd Caa_, Phi_, Psi_, X_;
   bool updated_in_epoch_ = false;  // a partitioned update ran since the epoch began
+  // Staged flush: the pending correction (Xp_ N_ x a0p, Psip_), its progress
+  // (rows [0, pend_done_) applied) and shares left (0: nothing pending);
+  // join_view_: the epoch began at a staged flush and has had no update yet.
+  MatrixXd Xp_, Psip_;
+  int pend_done_ = 0, pend_left_ = 0;
+  bool join_view_ = false;
   int flushes_ = 0;
   double flush_seconds_ = 0;
 };
@@ -437,10 +565,11 @@ bool partitionedFlushStats(const CovarianceBackend& b, int* flushes, double* sec
 }
 
 std::unique_ptr<CovarianceBackend> makePartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim,
-                                                             CpuLinearAlgebra la, int max_active) {
-  if (capacity < 0 || descriptor_length < 0 || pose_dim < 6 || pose_dim > kMaxPoseDim || max_active < 1)
+                                                             CpuLinearAlgebra la, int max_active, int flush_shares) {
+  if (capacity < 0 || descriptor_length < 0 || pose_dim < 6 || pose_dim > kMaxPoseDim || max_active < 1 ||
+      flush_shares < 1)
     return nullptr;
-  return std::make_unique<PartitionedCpuBackend>(capacity, descriptor_length, pose_dim, la, max_active);
+  return std::make_unique<PartitionedCpuBackend>(capacity, descriptor_length, pose_dim, la, max_active, flush_shares);
 }
 
 }  // namespace hapi_eskf

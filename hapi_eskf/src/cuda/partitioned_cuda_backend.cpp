@@ -12,8 +12,13 @@
 // (the last one the passive part of dx); the flush is O(n^2 a0) on the dense
 // C, which never leaves the device. Only dx, y, the factor's checks and the
 // marginals' small blocks come back to the host.
+// Staged flush (partition_flush_shares > 1, docs/DESIGN.md "Staged flush"): as
+// in the CPU variant, C_BB's correction stays pending (Xp_, Psip_) and is
+// applied in row shares by the next updates; reads of the stored C subtract
+// what their entries still owe, and removals settle the entries they move.
 #include "hapi_eskf/cuda/cuda_backend.hpp"
 #include "hapi_eskf/partition_epoch.hpp"
+#include "hapi_eskf/staged_flush.hpp"
 
 #include "dense_cuda_backend.hpp"
 #include "partitioned_kernels.cuh"
@@ -33,10 +38,11 @@ using Dense = CudaBackend<double>;
 
 class PartitionedCudaBackend final : public CovarianceBackend, public PartitionedFlushCounter {
  public:
-  PartitionedCudaBackend(std::unique_ptr<Dense> dense, int max_active)
+  PartitionedCudaBackend(std::unique_ptr<Dense> dense, int max_active, int flush_shares)
       : CovarianceBackend(dense->poseDim()),
         dense_(std::move(dense)),
         max_active_(max_active),
+        flush_shares_(flush_shares),
         ld_(dense_->ld()),
         stream_(dense_->stream()),
         blas_(dense_->blas()),
@@ -81,7 +87,7 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   std::size_t memoryBytes() const override {
     return dense_->memoryBytes() + Caa_.bytes() + Phi_.bytes() + Psi_.bytes() + X_.bytes() + flush_.bytes() +
            Ht_.bytes() + PA_.bytes() + S_.bytes() + V_.bytes() + vec_.bytes() + small_.bytes() + H_.bytes() +
-           factor_.bytes();
+           factor_.bytes() + Xp_.bytes() + Psip_.bytes() + owed_.bytes() + owed_small_.bytes();
   }
   int flushes() const override { return flushes_; }
   double flushSeconds() const override { return flush_seconds_; }
@@ -101,12 +107,12 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     return out;
   }
   std::vector<Mat3> landmarkCovariances() const override {
-    if (flush() != Status::kOk)
+    if (flush(true) != Status::kOk)
       return std::vector<Mat3>(numLandmarks(), Mat3::Constant(std::numeric_limits<double>::quiet_NaN()));
     return dense_->landmarkCovariances();
   }
   Eigen::MatrixXd denseCovariance() const override {
-    if (flush() != Status::kOk)
+    if (flush(true) != Status::kOk)
       return Eigen::MatrixXd::Constant(dim(), dim(), std::numeric_limits<double>::quiet_NaN());
     return dense_->denseCovariance();
   }
@@ -120,6 +126,8 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     std::fill(in_basis_.begin(), in_basis_.end(), 0);
     active_.clear();
     basis_.clear();
+    pend_left_ = 0;
+    join_view_ = false;
     return startEpoch();
   }
 
@@ -157,9 +165,11 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
       }
     }
     const int np = static_cast<int>(passive.size()), m3 = 3 * np;
-    // small_: 81 per slot (from Caa) | 81 per passive slot (from C) | Cb Phi_6^T (m3 x 6) | 9 per passive slot.
+    // small_: 81 per slot (from Caa) | 81 per passive slot (from C) | Cb Phi_6^T (m3 x 6) | 9 per passive slot
+    // | 9 per passive slot (what its diagonal block of C still owes, staged flush).
     const std::size_t o_c = 81 * static_cast<std::size_t>(cnt), o_phi = o_c + 81 * static_cast<std::size_t>(np),
-                      o_d = o_phi + 6 * static_cast<std::size_t>(m3), total = o_d + 9 * static_cast<std::size_t>(np);
+                      o_d = o_phi + 6 * static_cast<std::size_t>(m3), o_p = o_d + 9 * static_cast<std::size_t>(np),
+                      total = o_p + 9 * static_cast<std::size_t>(np);
     HAPI_CUDA_TRY(small_.ensure(total));
     HAPI_CUDA_TRY(idx_.ensure(cnt + np + m3));
     int* d_act = idx_.get();
@@ -187,6 +197,19 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
         HAPI_CUDA_TRY(cudaMemsetAsync(small_.get() + o_d, 0, 9 * static_cast<std::size_t>(np) * sizeof(double),
                                       stream_));
       }
+      if (pending()) {  // Xp_j Psip Xp_j^T per passive slot
+        const int ap = a0p_;
+        HAPI_CUDA_TRY(owed_small_.ensure(2 * static_cast<std::size_t>(m3) * ap));
+        double* Xj = owed_small_.get();
+        double* XjPsi = Xj + static_cast<std::size_t>(m3) * ap;
+        HAPI_CUDA_TRY(launchGatherRows(Xp_.get(), ld_, d_rows, m3, ap, Xj, m3, stream_));
+        HAPI_CUDA_TRY(Blas<double>::symmRight(blas_, m3, ap, 1.0, Psip_.get(), ap, Xj, m3, 0.0, XjPsi, m3));
+        HAPI_CUDA_TRY(Blas<double>::gemmNTBatched(blas_, 3, 3, ap, XjPsi, m3, 3, Xj, m3, 3, small_.get() + o_p, 3, 9,
+                                                  np));
+      } else {
+        HAPI_CUDA_TRY(cudaMemsetAsync(small_.get() + o_p, 0, 9 * static_cast<std::size_t>(np) * sizeof(double),
+                                      stream_));
+      }
     }
     std::vector<double> h(total);
     HAPI_CUDA_TRY(cudaMemcpyAsync(h.data(), small_.get(), total * sizeof(double), cudaMemcpyDeviceToHost, stream_));
@@ -198,11 +221,17 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
       if (active_pos_[slots[i]] >= 0) continue;
       Mat9 C0;
       std::memcpy(C0.data(), h.data() + o_c + 81 * static_cast<std::size_t>(u), 81 * sizeof(double));
-      Mat3 D;
+      Mat3 D, owed;
       std::memcpy(D.data(), h.data() + o_d + 9 * static_cast<std::size_t>(u), 9 * sizeof(double));
+      std::memcpy(owed.data(), h.data() + o_p + 9 * static_cast<std::size_t>(u), 9 * sizeof(double));
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 6; ++c) M(6 + r, c) = h[o_phi + 3 * u + r + static_cast<std::size_t>(c) * m3];
-      const Mat3 Cjj = C0.block<3, 3>(6, 6) - D;
+      const int jr = landmarkRow(passive[u], P);
+      Mat3 C0jj = C0.block<3, 3>(6, 6);
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+          if (pending() && partition::owesPending(jr + r, jr + c, pend_done_)) C0jj(r, c) -= owed(r, c);
+      const Mat3 Cjj = C0jj - D;
       M.block<3, 3>(6, 6) = 0.5 * (Cjj + Cjj.transpose());
       M.block<6, 3>(0, 6) = M.block<3, 6>(6, 0).transpose();
       ++u;
@@ -211,9 +240,10 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
-    const partition::EpochStep step = partition::planEpochStep(blocks, active_pos_);
+    const partition::EpochStep step = partition::planEpochStep(blocks, active_pos_, join_view_);
+    join_view_ = false;
     if (step.new_epoch) {
-      Status st = flush();
+      Status st = flush(true);
       if (st != Status::kOk) return st;
       st = dense_->update(blocks, dx, nis);
       if (st != Status::kOk) return st;
@@ -290,6 +320,8 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     *dx = std::move(dxd);
     if (nis) *nis = y2;
     updated_in_epoch_ = touched_ = true;
+    st = advancePending();
+    if (st != Status::kOk) return st;
     if (activeLandmarks() > max_active_) return flush();
     return Status::kOk;
   }
@@ -355,13 +387,23 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     }
     // X's rows follow the plan (sources >= the new dimension > destinations).
     const std::vector<SlotMove> moves = tailFillMoves(K, slots);
-    for (const SlotMove& mv : moves)
+    for (const SlotMove& mv : moves) {
       HAPI_CUDA_TRY(cudaMemcpy2DAsync(X_.get() + landmarkRow(mv.to, P), ld_ * sizeof(double),
                                       X_.get() + landmarkRow(mv.from, P), ld_ * sizeof(double), 3 * sizeof(double),
                                       a0, cudaMemcpyDeviceToDevice, stream_));
-    const Status st = dense_->removeLandmarks(slots);  // synchronises the shared stream
+      if (pending())
+        HAPI_CUDA_TRY(cudaMemcpy2DAsync(Xp_.get() + landmarkRow(mv.to, P), ld_ * sizeof(double),
+                                        Xp_.get() + landmarkRow(mv.from, P), ld_ * sizeof(double),
+                                        3 * sizeof(double), a0p_, cudaMemcpyDeviceToDevice, stream_));
+    }
+    const int n_old = dim();
+    Status st = dense_->removeLandmarks(slots);  // synchronises the shared stream
     if (st != Status::kOk) return st;
     partition::renumberAfterRemoval(kept, moves, P, &in_basis_, &active_, &active_pos_, &basis_);
+    if (pending()) {
+      st = settleMovedDebt(moves, n_old);
+      if (st != Status::kOk) return st;
+    }
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     return Status::kOk;
   }
@@ -454,6 +496,13 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     HAPI_CUDA_TRY(cudaMemcpyAsync(idx_.get(), rows.data(), nj * sizeof(int), cudaMemcpyHostToDevice, stream_));
     HAPI_CUDA_TRY(launchGatherRows(X_.get(), ld_, idx_.get(), nj, a0, cJ, nj, stream_));
     HAPI_CUDA_TRY(launchGatherSymmetric(dense_->covariance(), ld_, idx_.get(), nj, idx_.get(), nj, CJJ, nj, stream_));
+    // Staged flush: D = Xp Psip Xp_J^T (n x nj), what C^0's columns J still owe.
+    const double* D = nullptr;
+    if (pending()) {
+      const Status so = owedColumns(idx_.get(), nj, &D);
+      if (so != Status::kOk) return so;
+      HAPI_CUDA_TRY(launchSubtractOwed(CJJ, nj, idx_.get(), nj, idx_.get(), nj, D, n, pend_done_, stream_));
+    }
     const Status st = resizeActive(a + nj, a0 + nj);
     if (st != Status::kOk) return st;
     const int lda = static_cast<int>(ca_);
@@ -470,6 +519,9 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     HAPI_CUDA_TRY(launchSetDiagonalOne(phi_j + static_cast<std::size_t>(a0) * ca_, ca_, nj, stream_));
     HAPI_CUDA_TRY(launchGatherSymmetric(dense_->covariance(), ld_, nullptr, n, idx_.get(), nj,
                                         X_.get() + static_cast<std::size_t>(a0) * ld_, ld_, stream_));
+    if (D != nullptr)
+      HAPI_CUDA_TRY(launchSubtractOwed(X_.get() + static_cast<std::size_t>(a0) * ld_, ld_, nullptr, n, idx_.get(), nj,
+                                       D, n, pend_done_, stream_));
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     for (std::size_t u = 0; u < J.size(); ++u) {
       active_pos_[J[u]] = a + 3 * static_cast<int>(u);
@@ -489,36 +541,38 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   //   formed for a chunk of active rows at a time (X Phi^T columns).
   // Buffers stay O(n) wide in one dimension and bounded in the other, so the
   // largest pools keep their memory for C. Logically const, as on the CPU.
-  Status flush() const { return const_cast<PartitionedCudaBackend*>(this)->doFlush(); }
-  Status doFlush() {
+  // Staged (partition_flush_shares > 1, not `complete`): C_BB's product is
+  // left pending instead (startPending), unless the device lacks the memory
+  // for Xp. One correction is pending at a time: an earlier one is finished
+  // first.
+  Status flush(bool complete = false) const {
+    return const_cast<PartitionedCudaBackend*>(this)->doFlush(complete || flush_shares_ <= 1);
+  }
+  Status doFlush(bool at_once) {
+    Status st = applyPendingRows(dim());
+    if (st != Status::kOk) return st;
     const int a = a_, a0 = a0_, P = poseDim();
     if (a == P && a0 == P && !touched_) return startEpoch();  // nothing deferred
     const auto t0 = std::chrono::steady_clock::now();
     const int n = dim();
+    constexpr int kChunk = 128;  // active rows written back per pass
+    const std::size_t need = static_cast<std::size_t>(n) * kChunk;
+    double* T = scratch(need);
+    if (T == nullptr) return Status::kBackendError;
+    // Room for the pending correction (Xp n x a0, Psip a0 x a0)? Else at once.
+    bool stage = updated_in_epoch_ && !at_once;
+    if (stage && (Xp_.ensure(ld_ * static_cast<std::size_t>(a0)) != cudaSuccess ||
+                  Psip_.ensure(static_cast<std::size_t>(a0) * a0) != cudaSuccess)) {
+      (void)cudaGetLastError();  // the failed allocation's error is not sticky: clear it
+      stage = false;
+    }
+    if (updated_in_epoch_ && !stage) {
+      st = correctRows(X_.get(), Psi_.get(), static_cast<int>(cb_), a0, 0, n);
+      if (st != Status::kOk) return st;
+      T = scratch(need);  // correctRows may have grown the scratch
+    }
     double* C = dense_->covariance();
     const int ldc = static_cast<int>(ld_);
-    const int panel = std::min(defaultPanel(n), std::max(n, 1));
-    constexpr int kChunk = 128;  // active rows written back per pass
-    // Scratch: the dense backend's update workspace (idle between calls),
-    // or an own buffer where that is too small.
-    const std::size_t need = std::max(static_cast<std::size_t>(panel) * a0, static_cast<std::size_t>(n) * kChunk);
-    double* T = dense_->workspace();
-    if (need > dense_->workspaceCount()) {
-      HAPI_CUDA_TRY(flush_.ensure(need));
-      T = flush_.get();
-    }
-    if (updated_in_epoch_) {
-      for (int i0 = 0; i0 < n; i0 += panel) {
-        const int b = std::min(panel, n - i0);
-        HAPI_CUDA_TRY(Blas<double>::symmRight(blas_, b, a0, 1.0, Psi_.get(), static_cast<int>(cb_), X_.get() + i0,
-                                              ldc, 0.0, T, b));
-        if (i0 > 0)
-          HAPI_CUDA_TRY(Blas<double>::gemm(blas_, false, true, b, i0, a0, -1.0, T, b, X_.get(), ldc, 1.0, C + i0,
-                                           ldc));
-        HAPI_CUDA_TRY(Blas<double>::syrkx(blas_, b, a0, -1.0, T, b, X_.get() + i0, ldc, 1.0,
-                                          C + i0 + static_cast<std::size_t>(i0) * ld_, ldc));
-      }
-    }
     // Rows of the active landmarks: all state indices, and which are active.
     // Joined rows of an epoch without update are current already (see the
     // CPU variant) and skipped; without update Phi lives in the pose columns.
@@ -545,10 +599,132 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
                                        static_cast<int>(ca_), 0.0, T, n));
       HAPI_CUDA_TRY(launchWriteActiveRows(C, ld_, n, T, c0, w, d_soa, d_aos, Caa_.get(), ca_, d_skip, stream_));
     }
+    if (stage) {
+      // Xp = X with the active rows (written above) and the rows past the
+      // state (landmarks added later) zero: they owe nothing.
+      const std::size_t d = sizeof(double);
+      HAPI_CUDA_TRY(cudaMemcpy2DAsync(Xp_.get(), ld_ * d, X_.get(), ld_ * d, n * d, a0, cudaMemcpyDeviceToDevice,
+                                      stream_));
+      HAPI_CUDA_TRY(cudaMemset2DAsync(Xp_.get() + n, ld_ * d, 0, (ld_ - n) * d, a0, stream_));
+      HAPI_CUDA_TRY(launchZeroRows(Xp_.get(), ld_, d_soa, a, a0, stream_));
+      HAPI_CUDA_TRY(cudaMemcpy2DAsync(Psip_.get(), a0 * d, Psi_.get(), cb_ * d, a0 * d, a0, cudaMemcpyDeviceToDevice,
+                                      stream_));
+      a0p_ = a0;
+      pend_done_ = 0;
+      pend_left_ = flush_shares_;
+    }
     HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     ++flushes_;
     flush_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return startEpoch();
+    st = startEpoch();
+    join_view_ = !at_once;
+    return st;
+  }
+
+  // The dense backend's update workspace (idle between calls) when it holds
+  // `count` doubles, else an own buffer; null when that cannot be allocated.
+  double* scratch(std::size_t count) {
+    if (count <= dense_->workspaceCount()) return dense_->workspace();
+    if (flush_.ensure(count) != cudaSuccess) {
+      last_error_ = "cudaMalloc(partitioned scratch of " + std::to_string(count) + " doubles) failed";
+      return nullptr;
+    }
+    return flush_.get();
+  }
+
+  // lower(C) rows [r0, r1) -= (X Psi X^T) rows (X n x k, leading dim ld_;
+  // Psi k x k lower, leading dim ldpsi), in row panels of defaultPanel(n):
+  // the panel's X Psi rows (DSYMM), one DGEMM left of the diagonal block, one
+  // DSYRKX on it. The flush's product (rows 0..n) and the staged shares.
+  Status correctRows(const double* X, const double* Psi, int ldpsi, int k, int r0, int r1) {
+    const int n = dim();
+    if (r1 <= r0 || k <= 0) return Status::kOk;
+    const int panel = std::min(defaultPanel(n), std::max(n, 1));
+    double* T = scratch(static_cast<std::size_t>(panel) * k);
+    if (T == nullptr) return Status::kBackendError;
+    double* C = dense_->covariance();
+    const int ldc = static_cast<int>(ld_);
+    for (int i0 = r0; i0 < r1; i0 += panel) {
+      const int b = std::min(panel, r1 - i0);
+      HAPI_CUDA_TRY(Blas<double>::symmRight(blas_, b, k, 1.0, Psi, ldpsi, X + i0, ldc, 0.0, T, b));
+      if (i0 > 0)
+        HAPI_CUDA_TRY(Blas<double>::gemm(blas_, false, true, b, i0, k, -1.0, T, b, X, ldc, 1.0, C + i0, ldc));
+      HAPI_CUDA_TRY(Blas<double>::syrkx(blas_, b, k, -1.0, T, b, X + i0, ldc, 1.0,
+                                        C + i0 + static_cast<std::size_t>(i0) * ld_, ldc));
+    }
+    return Status::kOk;
+  }
+
+  // --- Staged flush (staged_flush.hpp) ---
+  bool pending() const { return pend_left_ > 0; }
+
+  // The pending correction applied to the rows [done, r1) (ends synchronised).
+  Status applyPendingRows(int r1) {
+    if (!pending()) return Status::kOk;
+    const int r0 = pend_done_, r = std::min(r1, dim());
+    if (r > r0) {
+      const Status st = correctRows(Xp_.get(), Psip_.get(), a0p_, a0p_, r0, r);
+      if (st != Status::kOk) return st;
+      HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+      pend_done_ = r;
+    }
+    if (pend_done_ >= dim()) pend_left_ = 0;
+    return Status::kOk;
+  }
+
+  // One share per update, equal in work (partition::nextStagedRow).
+  Status advancePending() {
+    if (!pending()) return Status::kOk;
+    const int r1 = partition::nextStagedRow(pend_done_, dim(), pend_left_);
+    if (pend_left_ > 1) --pend_left_;  // the last share ends at dim(), where applyPendingRows clears it
+    return applyPendingRows(r1);
+  }
+
+  // *D = Xp Psip Xp_cols^T (n x w, leading dim n) for the w state rows in
+  // the device array `cols`: what C^0's columns `cols` still owe, in a
+  // scratch buffer valid until the next scratch use.
+  Status owedColumns(const int* cols, int w, const double** D) {
+    const int n = dim(), ap = a0p_;
+    HAPI_CUDA_TRY(owed_small_.ensure(2 * static_cast<std::size_t>(w) * ap));
+    HAPI_CUDA_TRY(owed_.ensure(static_cast<std::size_t>(n) * w));
+    double* Xc = owed_small_.get();
+    double* XcPsi = Xc + static_cast<std::size_t>(w) * ap;
+    HAPI_CUDA_TRY(launchGatherRows(Xp_.get(), ld_, cols, w, ap, Xc, w, stream_));
+    HAPI_CUDA_TRY(Blas<double>::symmRight(blas_, w, ap, 1.0, Psip_.get(), ap, Xc, w, 0.0, XcPsi, w));
+    HAPI_CUDA_TRY(Blas<double>::gemm(blas_, false, true, n, w, ap, 1.0, Xp_.get(), static_cast<int>(ld_), XcPsi, w,
+                                     0.0, owed_.get(), n));
+    *D = owed_.get();
+    return Status::kOk;
+  }
+
+  // After a removal's slot moves (C and Xp rows moved, n_old the dimension
+  // before): the entries that moved before `done` pay their share now
+  // (partition::rowsSettledByMoves), Xp's rows past the new dimension are
+  // cleared and `done` is clipped (the CPU variant's settleMovedDebt).
+  Status settleMovedDebt(const std::vector<SlotMove>& moves, int n_old) {
+    const int n = dim(), done = std::min(pend_done_, n);
+    const std::vector<int> ks = partition::rowsSettledByMoves(moves, pend_done_, poseDim());
+    const int w = static_cast<int>(ks.size());
+    if (w > 0 && done > 0) {
+      std::vector<unsigned char> settled(done, 0);
+      for (int k : ks) settled[k] = 1;
+      HAPI_CUDA_TRY(idx_.ensure(w + (done + 3) / 4));
+      int* d_ks = idx_.get();
+      unsigned char* d_settled = reinterpret_cast<unsigned char*>(d_ks + w);
+      HAPI_CUDA_TRY(cudaMemcpyAsync(d_ks, ks.data(), w * sizeof(int), cudaMemcpyHostToDevice, stream_));
+      HAPI_CUDA_TRY(cudaMemcpyAsync(d_settled, settled.data(), done, cudaMemcpyHostToDevice, stream_));
+      const double* D = nullptr;
+      const Status st = owedColumns(d_ks, w, &D);  // n x w; rows < done used
+      if (st != Status::kOk) return st;
+      HAPI_CUDA_TRY(launchSettleOwed(dense_->covariance(), ld_, d_ks, w, D, n, done, d_settled, stream_));
+    }
+    if (n_old > n)
+      HAPI_CUDA_TRY(cudaMemset2DAsync(Xp_.get() + n, ld_ * sizeof(double), 0, (n_old - n) * sizeof(double), a0p_,
+                                      stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    pend_done_ = done;
+    if (pend_done_ >= n) pend_left_ = 0;
+    return Status::kOk;
   }
 
   // Active part = the pose, basis = the pose, Phi = I, Psi = 0, Caa = C_pp,
@@ -575,6 +751,7 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
 
   std::unique_ptr<Dense> dense_;  // stored C (C^0), descriptors, dense update
   const int max_active_;
+  const int flush_shares_;
   const std::size_t ld_;          // of C and X
   cudaStream_t stream_;
   cublasHandle_t blas_;
@@ -596,6 +773,15 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   InnovationFactor<double> factor_;
   bool updated_in_epoch_ = false;  // a partitioned update ran since the epoch began
   bool touched_ = false;           // a predict or an update since the epoch began
+  // Staged flush: the pending correction (Xp_ ld x a0p_, Psip_ a0p_ x a0p_
+  // packed), its progress (rows [0, pend_done_) applied) and shares left (0:
+  // nothing pending); owed_ / owed_small_: what gathered columns still owe
+  // and their operands; join_view_: the epoch began at a staged flush and has
+  // had no update yet.
+  DeviceBuffer<double> Xp_, Psip_, owed_;
+  mutable DeviceBuffer<double> owed_small_;
+  int a0p_ = 0, pend_done_ = 0, pend_left_ = 0;
+  bool join_view_ = false;
   int flushes_ = 0;
   double flush_seconds_ = 0;
   mutable std::string last_error_;
@@ -623,7 +809,8 @@ std::unique_ptr<CovarianceBackend> makePartitionedCudaBackend(int capacity, int 
   std::unique_ptr<CovarianceBackend> base = makeCudaBackend(capacity, descriptor_length, pose_dim, sd, err);
   if (!base) return nullptr;
   std::unique_ptr<Dense> dense(static_cast<Dense*>(base.release()));  // fp64: a CudaBackend<double>
-  auto b = std::make_unique<PartitionedCudaBackend>(std::move(dense), s.partition_max_active);
+  auto b = std::make_unique<PartitionedCudaBackend>(std::move(dense), s.partition_max_active,
+                                                    s.partition_flush_shares);
   std::string why;
   if (!b->init(&why)) {
     *err = "partitioned CUDA backend (capacity " + std::to_string(capacity) + "): " + why;

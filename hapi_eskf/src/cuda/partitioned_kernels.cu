@@ -100,7 +100,60 @@ __global__ void writeActiveRowsKernel(double* __restrict__ C, std::size_t ld, in
   }
 }
 
+__global__ void zeroRowsKernel(double* __restrict__ M, std::size_t ldm, const int* __restrict__ rows, int nr,
+                               int nc) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= nr) return;
+  const std::size_t r = static_cast<std::size_t>(rows[i]);
+  for (int c = blockIdx.y; c < nc; c += gridDim.y) M[r + static_cast<std::size_t>(c) * ldm] = 0.0;
+}
+
+__global__ void subtractOwedKernel(double* __restrict__ out, std::size_t ldo, const int* __restrict__ rows, int nr,
+                                   const int* __restrict__ cols, int nc, const double* __restrict__ D,
+                                   std::size_t ldd, int done) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= nr) return;
+  const int r = rows != nullptr ? rows[i] : i;
+  for (int u = blockIdx.y; u < nc; u += gridDim.y)
+    if (max(r, cols[u]) >= done)
+      out[i + static_cast<std::size_t>(u) * ldo] -= D[static_cast<std::size_t>(r) + static_cast<std::size_t>(u) * ldd];
+}
+
+__global__ void settleOwedKernel(double* __restrict__ C, std::size_t ld, const int* __restrict__ ks, int w,
+                                 const double* __restrict__ D, std::size_t ldd, int done,
+                                 const unsigned char* __restrict__ settled) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= done) return;
+  for (int u = blockIdx.y; u < w; u += gridDim.y) {
+    const int k = ks[u];
+    if (settled[i] && i > k) continue;
+    C[static_cast<std::size_t>(max(i, k)) + static_cast<std::size_t>(min(i, k)) * ld] -=
+        D[i + static_cast<std::size_t>(u) * ldd];
+  }
+}
+
 }  // namespace
+
+cudaError_t launchZeroRows(double* M, std::size_t ldm, const int* rows, int nr, int nc, cudaStream_t stream) {
+  if (nr <= 0 || nc <= 0) return cudaSuccess;
+  zeroRowsKernel<<<dim3(blocksFor(nr), gridY(nc)), kThreads, 0, stream>>>(M, ldm, rows, nr, nc);
+  return cudaGetLastError();
+}
+
+cudaError_t launchSubtractOwed(double* out, std::size_t ldo, const int* rows, int nr, const int* cols, int nc,
+                               const double* D, std::size_t ldd, int done, cudaStream_t stream) {
+  if (nr <= 0 || nc <= 0) return cudaSuccess;
+  subtractOwedKernel<<<dim3(blocksFor(nr), gridY(nc)), kThreads, 0, stream>>>(out, ldo, rows, nr, cols, nc, D, ldd,
+                                                                              done);
+  return cudaGetLastError();
+}
+
+cudaError_t launchSettleOwed(double* C, std::size_t ld, const int* ks, int w, const double* D, std::size_t ldd,
+                             int done, const unsigned char* settled, cudaStream_t stream) {
+  if (w <= 0 || done <= 0) return cudaSuccess;
+  settleOwedKernel<<<dim3(blocksFor(done), gridY(w)), kThreads, 0, stream>>>(C, ld, ks, w, D, ldd, done, settled);
+  return cudaGetLastError();
+}
 
 cudaError_t launchGatherSymmetric(const double* M, std::size_t ldm, const int* rows, int nr, const int* cols, int nc,
                                   double* out, std::size_t ldo, cudaStream_t stream) {

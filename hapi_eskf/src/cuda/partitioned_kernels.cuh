@@ -47,5 +47,23 @@ cudaError_t launchWriteActiveRows(double* C, std::size_t ld, int n, const double
                                   const int* state_of_active, const int* active_of_state, const double* Caa,
                                   std::size_t lda, const unsigned char* skip, cudaStream_t stream);
 
+// --- Staged flush (docs/DESIGN.md "Staged flush", staged_flush.hpp) ---
+
+// M(rows[i], c) = 0 for i < nr, c < nc.
+cudaError_t launchZeroRows(double* M, std::size_t ldm, const int* rows, int nr, int nc, cudaStream_t stream);
+
+// What gathered entries still owe: out(i, u) -= D(r_i, u) where
+// max(r_i, cols[u]) >= done, r_i = rows[i] (rows null: r_i = i), i < nr,
+// u < nc; D (leading dim ldd) holds Xp Psip Xp_cols^T by state row.
+cudaError_t launchSubtractOwed(double* out, std::size_t ldo, const int* rows, int nr, const int* cols, int nc,
+                               const double* D, std::size_t ldd, int done, cudaStream_t stream);
+
+// Entries settled by a removal's moves: for the state rows ks[u] (u < w,
+// flagged in `settled`, length >= done) and every row i < done, the stored
+// lower entry (max(i, k), min(i, k)) -= D(i, u); a pair of two settled rows
+// once (skipped where i is settled and i > k).
+cudaError_t launchSettleOwed(double* C, std::size_t ld, const int* ks, int w, const double* D, std::size_t ldd,
+                             int done, const unsigned char* settled, cudaStream_t stream);
+
 }  // namespace cuda
 }  // namespace hapi_eskf

@@ -18,10 +18,12 @@ namespace {
 using testing_sequence::Counts;
 using testing_sequence::runSequence;
 
-std::unique_ptr<CovarianceBackend> makeCudaPartitioned(int capacity, int pose_dim, int max_active) {
+std::unique_ptr<CovarianceBackend> makeCudaPartitioned(int capacity, int pose_dim, int max_active,
+                                                       int flush_shares = 1) {
   EskfSettings s = cudaSettings();
   s.covariance_update = CovarianceUpdate::kPartitioned;
   s.partition_max_active = max_active;
+  s.partition_flush_shares = flush_shares;
   std::string err;
   auto b = cuda::makePartitionedCudaBackend(capacity, 8, pose_dim, s, &err);
   EXPECT_TRUE(b) << err;
@@ -70,7 +72,7 @@ TEST(CudaPartitioned, EqualsCpuPartitioned) {
   HAPI_REQUIRE_CUDA_DEVICE();
   for (int P : {kCameraMotionDim, kMaxPoseDim}) {
     auto gpu = makeCudaPartitioned(100, P, 30);
-    auto cpu = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30);
+    auto cpu = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, 1);
     ASSERT_TRUE(gpu && cpu);
     Counts c;
     runSequence(gpu.get(), cpu.get(), 51 + P, 300, 25, P, &c);
@@ -78,6 +80,38 @@ TEST(CudaPartitioned, EqualsCpuPartitioned) {
     EXPECT_EQ(flushesOf(*gpu), flushesOf(*cpu));
     EXPECT_GT(c.checkpoints, 10);
   }
+}
+
+// Staged flushes (docs/DESIGN.md "Staged flush"): against the dense CPU
+// backend, and against the staged CPU variant with the same calls (the same
+// flushes and shares).
+TEST(CudaPartitioned, StagedFlushEqualsDenseAndCpuStaged) {
+  HAPI_REQUIRE_CUDA_DEVICE();
+  for (int shares : {2, 5}) {
+    for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+      auto gpu = makeCudaPartitioned(100, P, 30, shares);
+      auto dense = makeCpuBackend(100, 8, P);
+      ASSERT_TRUE(gpu && dense);
+      Counts c;
+      runSequence(gpu.get(), dense.get(), 51 + P + shares, 300, 37, P, &c);
+      if (HasFatalFailure()) return;
+      EXPECT_GT(flushesOf(*gpu), 10);
+      EXPECT_GT(c.removals, 50);
+      auto gpu2 = makeCudaPartitioned(100, P, 30, shares);
+      auto cpu = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares);
+      ASSERT_TRUE(gpu2 && cpu);
+      runSequence(gpu2.get(), cpu.get(), 61 + P + shares, 300, 25, P, &c);
+      if (HasFatalFailure()) return;
+      EXPECT_EQ(flushesOf(*gpu2), flushesOf(*cpu));
+    }
+  }
+}
+
+TEST(CudaPartitioned, StagedFlushFilterMatchesDenseCpuFilter) {
+  HAPI_REQUIRE_CUDA_DEVICE();
+  EskfSettings s = testing_settings::basicFilter();
+  s.partition_flush_shares = 3;
+  testing_partitioned::runFilters(s, 150, 30, BackendKind::kCuda);
 }
 
 // A large active budget: flushes only where the view jumps and at the final
