@@ -117,12 +117,7 @@ TEST(EskfNodelet, ProcessesSyntheticFrames) {
     std::lock_guard<std::mutex> lk(obs->mu);
     return obs->maps > 0 && obs->map.width > 20;
   }, 5.0));
-  // The path is a topic of its own: its message of the last frame may come
-  // after that frame's odometry.
-  EXPECT_TRUE(waitFor([] {
-    std::lock_guard<std::mutex> lk(obs->mu);
-    return !obs->path_sizes.empty() && obs->path_sizes.back() == 60u;
-  }, 5.0));
+  EXPECT_TRUE(waitFor([] { return obs->lastPathSize() == 60u; }, 5.0));
   std::lock_guard<std::mutex> lk(obs->mu);
   EXPECT_EQ(obs->map.header.frame_id, "map");
   ASSERT_EQ(obs->map.fields.size(), 6u);
@@ -444,8 +439,9 @@ TEST(EskfNodelet, TimeJumpBackwardsResetsFilterAndPath) {
   EXPECT_EQ(obs->numOdom(), n0 + 20);
   EXPECT_TRUE(waitFor([&] { return obs->diagValue("time_jumps") >= jumps0 + 1; }, 5.0));
   EXPECT_GE(obs->diagValue("resets"), resets0 + 1);
-  std::lock_guard<std::mutex> lk(obs->mu);
   // Path restarted: exactly the 20 frames of the new timeline.
+  EXPECT_TRUE(waitFor([] { return obs->lastPathSize() == 20u; }, 5.0));
+  std::lock_guard<std::mutex> lk(obs->mu);
   EXPECT_EQ(obs->path_sizes.back(), 20u);
   // World re-anchored at the first camera after the jump.
   const auto& o = obs->odoms.back();

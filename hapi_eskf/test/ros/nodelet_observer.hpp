@@ -55,6 +55,12 @@ struct NodeletObserver {
     std::lock_guard<std::mutex> lk(mu);
     return odoms.size();
   }
+  // Poses in the latest path message, 0 before the first. The path is a
+  // topic of its own: a frame's path message may come after its odometry.
+  std::size_t lastPathSize() {
+    std::lock_guard<std::mutex> lk(mu);
+    return path_sizes.empty() ? 0 : path_sizes.back();
+  }
   // The latest value of a diagnostics key, -1 before the key was seen.
   double diagValue(const std::string& key) {
     std::lock_guard<std::mutex> lk(mu);
