@@ -22,17 +22,9 @@ import resource
 import subprocess
 import sys
 
+from soak_verdict import slope_per_min  # the least-squares slope of the ROS soak's verdict
+
 LINE = re.compile(r"^t=([-0-9.]+) st=(\S+) .* K=(\d+) .* ms=([0-9.]+)")
-
-
-def slope_per_min(pts):
-    n = len(pts)
-    if n < 2:
-        return 0.0
-    mt = sum(p[0] for p in pts) / n
-    mv = sum(p[1] for p in pts) / n
-    den = sum((p[0] - mt) ** 2 for p in pts) or 1.0
-    return sum((p[0] - mt) * (p[1] - mv) for p in pts) / den * 60.0
 
 
 def rss_mib(pid):
