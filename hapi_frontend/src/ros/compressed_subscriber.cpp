@@ -66,8 +66,13 @@ void CompressedSubscriber::internalCallback(const sensor_msgs::CompressedImageCo
                                             const Callback& user_cb) {
   auto image = boost::make_shared<sensor_msgs::Image>();
   std::string error;
-  if (!decodeCompressed(*message, image.get(), &error))
-    ROS_ERROR_THROTTLE(1.0, "compressed image on %s: %s", getTopic().c_str(), error.c_str());
+  if (!decodeCompressed(*message, image.get(), &error)) {
+    const ros::WallTime now = ros::WallTime::now();
+    if (last_error_log_.isZero() || (now - last_error_log_).toSec() >= 1.0) {
+      last_error_log_ = now;
+      ROS_ERROR("compressed image on %s: %s", getTopic().c_str(), error.c_str());
+    }
+  }
   user_cb(image);
 }
 

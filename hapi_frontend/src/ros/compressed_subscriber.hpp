@@ -11,6 +11,7 @@
 #pragma once
 
 #include <image_transport/simple_subscriber_plugin.h>
+#include <ros/time.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 
@@ -36,6 +37,14 @@ class CompressedSubscriber : public image_transport::SimpleSubscriberPlugin<sens
 
  protected:
   void internalCallback(const sensor_msgs::CompressedImageConstPtr& message, const Callback& user_cb) override;
+
+ private:
+  // When this subscriber last logged a decode error (at most once per
+  // second). Per instance, not ROS_ERROR_THROTTLE's static per call site:
+  // the left and right subscribers run their callbacks on different
+  // threads and would race on that static; one subscription's callbacks
+  // never run concurrently, so this member needs no lock.
+  ros::WallTime last_error_log_;
 };
 
 }  // namespace hapi_frontend
