@@ -49,9 +49,9 @@ case "$MODE" in
     # With libtsan preloaded, Debian's sh and bash crash at start (SIGSEGV
     # before main; python and the nodelet manager do not), and ctest runs
     # every test through catkin's env.sh. So TSan is not preloaded
-    # everywhere: our test executables link it, and the nodelet managers of
-    # the launch files that honour HAPI_MANAGER_PREFIX (the hapi_eskf
-    # rostests) start with it.
+    # everywhere: our test executables link it, and every nodelet manager of
+    # the launch and test files starts with it (launch-prefix from
+    # HAPI_MANAGER_PREFIX; launch/*.launch: the manager_prefix argument).
     export HAPI_MANAGER_PREFIX="env LD_PRELOAD=$RUNTIME"
     # Eigen's products run on libgomp's threads where OpenMP is on; libgomp
     # is not instrumented, so TSan cannot see its barriers and reports the
