@@ -24,6 +24,16 @@ namespace partition {
 
 inline bool owesPending(int i, int k, int done) { return std::max(i, k) >= done; }
 
+// The diagonal block at state row r of C^0: the stored block minus the
+// entries' pending share `owed` (Xp_r Psip Xp_r^T) where they still owe it.
+inline Mat3 withoutOwed(const Mat3& stored, const Mat3& owed, int r, int done) {
+  Mat3 B = stored;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (owesPending(r + i, r + k, done)) B(i, k) -= owed(i, k);
+  return B;
+}
+
 // End of the next share of the rows [done, n) when `shares_left` shares
 // remain: row panel work grows with the row (row i has i + 1 entries), so
 // the shares end where the remaining entries divide evenly.

@@ -381,11 +381,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     const MatrixXd X = X_.topRows(n);
     MatrixXd R;
     if (updated_in_epoch_) {
-      if (at_once) {
-        MatrixXd T;
-        cpu_la::gemm(la_, false, false, 1.0, X, Psi_, 0.0, &T);  // n x a0
-        cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data(), n, n, Eigen::OuterStride<>(N_)), T, X, -1.0);
-      }
+      if (at_once) correctRows(X_, Psi_, 0, n);
       cpu_la::gemm(la_, false, true, 1.0, Phi_, X, 0.0, &R);  // a x n
     } else {
       // No update this epoch: Psi = 0 (C_BB is C^0_BB), a joined row of Phi
@@ -432,24 +428,32 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     pend_left_ = flush_shares_;
   }
 
-  // Applies the pending correction to the rows [done, r1) of the lower
-  // triangle (a row panel: one GEMM left of the diagonal block, one
-  // triangular product on it).
+  // lower(C) rows [r0, r1) -= (X Psi X^T) rows, as one row panel: one GEMM
+  // left of the diagonal block, one triangular product on it. With r0 = 0
+  // and r1 = n this is the whole flush product; the staged shares are
+  // consecutive panels of it.
+  void correctRows(const MatrixXd& X, const MatrixXd& Psi, int r0, int r1) {
+    const int b = r1 - r0;
+    if (b <= 0) return;
+    const MatrixXd Xb = X.middleRows(r0, b);
+    MatrixXd T, left;
+    cpu_la::gemm(la_, false, false, 1.0, Xb, Psi, 0.0, &T);  // b x a0
+    if (r0 > 0) {
+      cpu_la::gemm(la_, false, true, 1.0, T, MatrixXd(X.topRows(r0)), 0.0, &left);
+      C_.block(r0, 0, b, r0) -= left;
+    }
+    cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data() + r0 + static_cast<std::size_t>(r0) * N_, b, b,
+                                                   Eigen::OuterStride<>(N_)),
+                               T, Xb, -1.0);
+  }
+
+  // Applies the pending correction to the rows [done, r1).
   void applyPendingRows(int r1) {
     if (!pending()) return;
-    const int r0 = pend_done_, b = std::min(r1, dim()) - r0;
-    if (b > 0) {
-      const MatrixXd Xb = Xp_.middleRows(r0, b);
-      MatrixXd T, left;
-      cpu_la::gemm(la_, false, false, 1.0, Xb, Psip_, 0.0, &T);  // b x a0p
-      if (r0 > 0) {
-        cpu_la::gemm(la_, false, true, 1.0, T, MatrixXd(Xp_.topRows(r0)), 0.0, &left);
-        C_.block(r0, 0, b, r0) -= left;
-      }
-      cpu_la::productUpdateLower(la_, cpu_la::MatRef(C_.data() + r0 + static_cast<std::size_t>(r0) * N_, b, b,
-                                                     Eigen::OuterStride<>(N_)),
-                                 T, Xb, -1.0);
-      pend_done_ = r0 + b;
+    const int r = std::min(r1, dim());
+    if (r > pend_done_) {
+      correctRows(Xp_, Psip_, pend_done_, r);
+      pend_done_ = r;
     }
     if (pend_done_ >= dim()) pend_left_ = 0;
   }
@@ -477,14 +481,10 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
 
   // The 3 x 3 diagonal block at state row r of C^0 (what it still owes subtracted).
   Mat3 storedBlock(int r) const {
-    Mat3 B = lower_triangle::symmetricBlock(C_, r, 3);
+    const Mat3 B = lower_triangle::symmetricBlock(C_, r, 3);
     if (!pending()) return B;
     const Eigen::Matrix<double, 3, Eigen::Dynamic> x = Xp_.middleRows(r, 3);
-    const Mat3 D = x * Psip_ * x.transpose();
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k)
-        if (partition::owesPending(r + i, r + k, pend_done_)) B(i, k) -= D(i, k);
-    return B;
+    return partition::withoutOwed(B, x * Psip_ * x.transpose(), r, pend_done_);
   }
 
   // After a removal's slot moves (C_ and Xp_ rows already moved; n_old the

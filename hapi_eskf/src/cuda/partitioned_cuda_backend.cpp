@@ -226,11 +226,9 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
       std::memcpy(owed.data(), h.data() + o_p + 9 * static_cast<std::size_t>(u), 9 * sizeof(double));
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 6; ++c) M(6 + r, c) = h[o_phi + 3 * u + r + static_cast<std::size_t>(c) * m3];
-      const int jr = landmarkRow(passive[u], P);
-      Mat3 C0jj = C0.block<3, 3>(6, 6);
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-          if (pending() && partition::owesPending(jr + r, jr + c, pend_done_)) C0jj(r, c) -= owed(r, c);
+      const Mat3 C0jj = pending() ? partition::withoutOwed(C0.block<3, 3>(6, 6), owed, landmarkRow(passive[u], P),
+                                                           pend_done_)
+                                  : Mat3(C0.block<3, 3>(6, 6));
       const Mat3 Cjj = C0jj - D;
       M.block<3, 3>(6, 6) = 0.5 * (Cjj + Cjj.transpose());
       M.block<6, 3>(0, 6) = M.block<3, 6>(6, 0).transpose();
@@ -556,9 +554,6 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     const auto t0 = std::chrono::steady_clock::now();
     const int n = dim();
     constexpr int kChunk = 128;  // active rows written back per pass
-    const std::size_t need = static_cast<std::size_t>(n) * kChunk;
-    double* T = scratch(need);
-    if (T == nullptr) return Status::kBackendError;
     // Room for the pending correction (Xp n x a0, Psip a0 x a0)? Else at once.
     bool stage = updated_in_epoch_ && !at_once;
     if (stage && (Xp_.ensure(ld_ * static_cast<std::size_t>(a0)) != cudaSuccess ||
@@ -569,8 +564,9 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     if (updated_in_epoch_ && !stage) {
       st = correctRows(X_.get(), Psi_.get(), static_cast<int>(cb_), a0, 0, n);
       if (st != Status::kOk) return st;
-      T = scratch(need);  // correctRows may have grown the scratch
     }
+    double* T = scratch(static_cast<std::size_t>(n) * kChunk);  // after correctRows, which may grow the scratch
+    if (T == nullptr) return Status::kBackendError;
     double* C = dense_->covariance();
     const int ldc = static_cast<int>(ld_);
     // Rows of the active landmarks: all state indices, and which are active.
