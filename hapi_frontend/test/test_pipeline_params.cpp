@@ -99,6 +99,31 @@ TEST(PipelineParams, RelationsBetweenFields) {
 
 // The pipeline asks its extractor and matcher whether they ran on the GPU;
 // the CPU classes say no.
+// The offline tools' name=value: by ROS name, typed, inside the declared
+// range, the field unchanged on any error.
+TEST(PipelineParams, SetFromTextTakesNamesTypesAndRanges) {
+  PipelineParams p;
+  EXPECT_EQ(setFromText(&p, "fast_threshold", "8"), "");
+  EXPECT_EQ(p.fast_threshold, 8);
+  EXPECT_EQ(setFromText(&p, "refine_min_zncc", "0.8"), "");
+  EXPECT_DOUBLE_EQ(p.refine_min_zncc, 0.8);
+  EXPECT_EQ(setFromText(&p, "use_gpu", "true"), "");
+  EXPECT_TRUE(p.use_gpu);
+  EXPECT_EQ(setFromText(&p, "detector", "akaze"), "");
+  EXPECT_EQ(p.detector, "akaze");
+
+  EXPECT_NE(setFromText(&p, "fast_threshold", "300").find("fast_threshold"), std::string::npos);
+  EXPECT_NE(setFromText(&p, "fast_threshold", "8.5").find("whole number"), std::string::npos);
+  EXPECT_NE(setFromText(&p, "refine_min_zncc", "high").find("a number"), std::string::npos);
+  EXPECT_NE(setFromText(&p, "use_gpu", "yes").find("true or false"), std::string::npos);
+  EXPECT_NE(setFromText(&p, "detector", "sift").find("one of"), std::string::npos);
+  EXPECT_NE(setFromText(&p, "no_such_parameter", "1").find("unknown parameter"), std::string::npos);
+  EXPECT_EQ(p.fast_threshold, 8);
+  EXPECT_DOUBLE_EQ(p.refine_min_zncc, 0.8);
+  EXPECT_TRUE(p.use_gpu);
+  EXPECT_EQ(p.detector, "akaze");
+}
+
 TEST(GpuProperty, CpuImplementationsReportCpu) {
   EXPECT_FALSE(AkazeExtractor().usingGpu());
   EXPECT_FALSE(OpenCvOrbExtractor().usingGpu());

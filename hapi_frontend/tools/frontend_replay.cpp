@@ -33,40 +33,6 @@
 
 namespace {
 
-// Sets the pipeline parameter called `name` from its text (the declarations
-// of PipelineParams::visit, so names and ranges are the nodelet's).
-class TextSetter final : public hapi_frontend::ParamVisitor {
- public:
-  TextSetter(std::string name, std::string value) : name_(std::move(name)), value_(std::move(value)) {}
-  void visit(const hapi_frontend::ParamSpec& spec, bool& v) override {
-    if (match(spec)) v = value_ == "true" || value_ == "1";
-  }
-  void visit(const hapi_frontend::ParamSpec& spec, int& v) override {
-    if (match(spec)) set(spec, std::stoi(value_), &v);
-  }
-  void visit(const hapi_frontend::ParamSpec& spec, double& v) override {
-    if (match(spec)) set(spec, std::stod(value_), &v);
-  }
-  void visit(const hapi_frontend::ParamSpec& spec, std::string& v) override {
-    if (match(spec)) set(spec, value_, &v);
-  }
-  std::string error() const { return found_ ? error_ : "unknown pipeline parameter '" + name_ + "'"; }
-
- private:
-  bool match(const hapi_frontend::ParamSpec& spec) {
-    if (name_ != spec.name) return false;
-    found_ = true;
-    return true;
-  }
-  template <typename T>
-  void set(const hapi_frontend::ParamSpec& spec, const T& value, T* field) {
-    error_ = hapi_frontend::checkValue(spec, value);
-    if (error_.empty()) *field = value;
-  }
-  std::string name_, value_, error_;
-  bool found_ = false;
-};
-
 struct Topics {
   std::string left = "/stereo/left/image_raw", right = "/stereo/right/image_raw";
   std::string left_info = "/stereo/left/camera_info", right_info = "/stereo/right/camera_info";
@@ -90,13 +56,8 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     const auto eq = a.find('=');
     if (eq != std::string::npos) {
-      TextSetter setter(a.substr(0, eq), a.substr(eq + 1));
-      try {
-        params.visit(setter);
-      } catch (const std::exception&) {
-        return usage(("not a number: " + a).c_str());
-      }
-      if (!setter.error().empty()) return usage(setter.error().c_str());
+      const std::string error = hapi_frontend::setFromText(&params, a.substr(0, eq), a.substr(eq + 1));
+      if (!error.empty()) return usage(error.c_str());
       continue;
     }
     if (i + 1 >= argc) return usage(("missing value after " + a).c_str());

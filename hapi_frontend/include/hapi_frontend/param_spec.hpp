@@ -9,6 +9,7 @@
 #include <hapi_nodelet_kit/number_range.hpp>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hapi_frontend {
@@ -89,5 +90,34 @@ class RangeChecker : public ParamVisitor {
   }
   std::vector<std::string> problems_;
 };
+
+// Sets the one field declared as `name` from its text, the way the offline
+// tools take settings on their command lines (name=value): "true"/"false" or
+// 1/0 for flags, whole numbers for int fields; the declared range applies.
+class TextSetter : public ParamVisitor {
+ public:
+  TextSetter(std::string name, std::string value) : name_(std::move(name)), value_(std::move(value)) {}
+  void visit(const ParamSpec& spec, bool& value) override;
+  void visit(const ParamSpec& spec, int& value) override;
+  void visit(const ParamSpec& spec, double& value) override;
+  void visit(const ParamSpec& spec, std::string& value) override;
+  // Empty when the field was set; else why not (unknown name, not a number,
+  // outside the declared range); the field is then unchanged.
+  std::string error() const { return found_ ? error_ : "unknown parameter '" + name_ + "'"; }
+
+ private:
+  bool matches(const ParamSpec& spec);
+  std::string name_, value_, error_;
+  bool found_ = false;
+};
+
+// setFromText(&params, "fast_threshold", "8"): TextSetter over any settings
+// struct with visit(ParamVisitor&); returns its error().
+template <typename Settings>
+std::string setFromText(Settings* settings, const std::string& name, const std::string& value) {
+  TextSetter setter(name, value);
+  settings->visit(setter);
+  return setter.error();
+}
 
 }  // namespace hapi_frontend

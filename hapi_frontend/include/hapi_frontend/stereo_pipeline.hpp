@@ -43,6 +43,12 @@ struct StereoFrameResult {
   bool used_gpu = false;
 };
 
+// Empty when `result` can travel as hapi_msgs/StereoLandmarks (a descriptor
+// row per landmark, finite positions, covariances and pixels), else why not.
+// The one check of the nodelet's message and of the ROS-free link
+// (tools/latency).
+std::string publishProblem(const StereoFrameResult& result);
+
 class StereoPipeline {
  public:
   // Throws std::invalid_argument on invalid params (checked once at start-up).

@@ -243,4 +243,18 @@ std::string StereoPipeline::process(const cv::Mat& left_in, const cv::Mat& right
   return "";
 }
 
+std::string publishProblem(const StereoFrameResult& res) {
+  const size_t n = res.landmarks.size();
+  const cv::Mat& d = res.descriptors;
+  if (n > 0 && (d.rows != static_cast<int>(n) || d.type() != CV_8UC1 || d.cols <= 0))
+    return "descriptor matrix " + std::to_string(d.rows) + "x" + std::to_string(d.cols) + " does not match " +
+           std::to_string(n) + " landmarks";
+  for (size_t i = 0; i < n; ++i) {
+    const StereoLandmarkOut& in = res.landmarks[i];
+    if (!in.position.allFinite() || !in.covariance.allFinite() || !in.uv_left.allFinite() || !in.uv_right.allFinite())
+      return "landmark " + std::to_string(i) + " has non-finite values";
+  }
+  return "";
+}
+
 }  // namespace hapi_frontend

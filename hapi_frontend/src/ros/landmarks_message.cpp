@@ -8,11 +8,10 @@ namespace hapi_frontend {
 std::string fillLandmarksMsg(const StereoFrameResult& res, const StereoRig& rig, double pixel_sigma,
                              const std_msgs::Header& header, const sensor_msgs::CameraInfo& left_info,
                              const sensor_msgs::CameraInfo& right_info, hapi_msgs::StereoLandmarks* msg) {
+  const std::string problem = publishProblem(res);
+  if (!problem.empty()) return problem;
   const size_t n = res.landmarks.size();
   const cv::Mat& d = res.descriptors;
-  if (n > 0 && (d.rows != static_cast<int>(n) || d.type() != CV_8UC1 || d.cols <= 0))
-    return "descriptor matrix " + std::to_string(d.rows) + "x" + std::to_string(d.cols) + " does not match " +
-           std::to_string(n) + " landmarks";
 
   msg->header = header;
   msg->descriptor_type = res.descriptor_type == DescriptorType::AKAZE ? hapi_msgs::StereoLandmarks::DESCRIPTOR_AKAZE
@@ -25,8 +24,6 @@ std::string fillLandmarksMsg(const StereoFrameResult& res, const StereoRig& rig,
   msg->landmarks.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const StereoLandmarkOut& in = res.landmarks[i];
-    if (!in.position.allFinite() || !in.covariance.allFinite() || !in.uv_left.allFinite() || !in.uv_right.allFinite())
-      return "landmark " + std::to_string(i) + " has non-finite values";
     hapi_msgs::StereoLandmark& o = msg->landmarks[i];
     o.id = static_cast<uint32_t>(i);
     o.u_left = in.uv_left.x();

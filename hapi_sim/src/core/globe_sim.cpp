@@ -2,7 +2,9 @@
 #include "hapi_sim/globe_orbit.hpp"
 #include "hapi_sim/motion.hpp"
 
+#ifdef HAPI_SIM_IMAGE_FILES
 #include <opencv2/imgcodecs.hpp>
+#endif
 #include <opencv2/imgproc.hpp>
 #include <algorithm>
 #include <cmath>
@@ -106,7 +108,11 @@ GlobeScene GlobeScene::makeDefault(const std::string& path, double radius, const
   s.radius = radius;
   s.centre = centre;
   cv::Mat img;
+#ifdef HAPI_SIM_IMAGE_FILES
   if (!path.empty()) img = cv::imread(path, cv::IMREAD_GRAYSCALE);
+#endif
+  // Without image files (no imgcodecs) a texture file is as absent as a
+  // missing one: texture_source then says "generated".
   if (!img.empty()) {
     img.convertTo(s.texture, CV_32FC1);
     // Boost contrast: oceans are very dark in the xplanet map.

@@ -39,6 +39,7 @@
 #include "bag_messages.hpp"
 #include "hapi_sim/asl_writer.hpp"
 #include "hapi_sim/scenario.hpp"
+#include "hapi_sim/scenario_options.hpp"
 
 namespace {
 
@@ -57,39 +58,24 @@ struct Options {
 
 [[noreturn]] void usage(const std::string& err) {
   std::cerr << "make_sim_bag: " << err << "\n"
-            << "usage: make_sim_bag --scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest|orbit\n"
-            << "                    [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]\n"
-            << "                    [--output FILE.bag] [--asl DIR] [--exposure-ms MS] [--blur-samples N]\n"
-            << "                    [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1]\n"
-            << "                    [--image-scale S] [--texture PATH]\n";
+            << "usage: make_sim_bag " << kScenarioOptionsUsage << "\n"
+            << "  [--output FILE.bag] [--asl DIR]\n";
   std::exit(2);
 }
 
 Options parse(int argc, char** argv) {
-  using hapi_dataset::parseFlagArg;
-  using hapi_dataset::parseNumberArg;
   Options o;
   hapi_dataset::forEachOption(argc, argv, usage, [&](const std::string& k, const std::string& v) {
-    if (k == "--scene") {
-      if (!parseSceneKind(v, &o.cfg.scene)) usage("--scene must be globe or skin");
-      o.have_scene = true;
-    } else if (k == "--trajectory") {
-      if (!parseTrajectoryKind(v, &o.cfg.trajectory)) usage("unknown --trajectory " + v);
-      o.have_trajectory = true;
-    } else if (k == "--seed") o.cfg.seed = static_cast<uint32_t>(hapi_dataset::parseIntegerArg(k, v, 0, 4294967295LL));
-    else if (k == "--duration") o.cfg.duration = parseNumberArg(k, v);
-    else if (k == "--rate") o.cfg.rate = parseNumberArg(k, v);
-    else if (k == "--imu-rate") o.cfg.imu_rate = parseNumberArg(k, v);
-    else if (k == "--output") o.output = v;
-    else if (k == "--asl") o.asl = v;
-    else if (k == "--exposure-ms") o.cfg.exposure = 1e-3 * parseNumberArg(k, v);
-    else if (k == "--blur-samples") o.cfg.blur_samples = static_cast<int>(hapi_dataset::parseIntegerArg(k, v, -1, 1000));
-    else if (k == "--photometric") o.cfg.photometric = parseFlagArg(k, v);
-    else if (k == "--image-noise") o.cfg.image_noise = parseFlagArg(k, v);
-    else if (k == "--imu-noise") o.cfg.imu_noise = parseFlagArg(k, v);
-    else if (k == "--image-scale") o.cfg.image_scale = parseNumberArg(k, v);
-    else if (k == "--texture") o.cfg.globe_texture = v;
-    else usage("unknown option " + k);
+    if (setScenarioOption(k, v, &o.cfg)) {
+      o.have_scene |= k == "--scene";
+      o.have_trajectory |= k == "--trajectory";
+    } else if (k == "--output") {
+      o.output = v;
+    } else if (k == "--asl") {
+      o.asl = v;
+    } else {
+      usage("unknown option " + k);
+    }
   });
   if (!o.have_scene || !o.have_trajectory) usage("--scene and --trajectory are required");
   if (o.output.empty() && o.asl.empty()) usage("give --output FILE.bag and/or --asl DIR");

@@ -1,0 +1,52 @@
+// The scenario's command-line options (scenario_options.hpp).
+#include "hapi_sim/scenario_options.hpp"
+
+#include <cstdint>
+#include <stdexcept>
+
+#include "hapi_dataset/command_line.hpp"
+
+namespace hapi_sim {
+
+const char* const kScenarioOptionsUsage =
+    "--scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest|orbit\n"
+    "  [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ] [--exposure-ms MS] [--blur-samples N]\n"
+    "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]";
+
+bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
+  using hapi_dataset::parseFlagArg;
+  using hapi_dataset::parseIntegerArg;
+  using hapi_dataset::parseNumberArg;
+  if (k == "--scene") {
+    if (!parseSceneKind(v, &cfg->scene)) throw std::invalid_argument("--scene must be globe or skin");
+  } else if (k == "--trajectory") {
+    if (!parseTrajectoryKind(v, &cfg->trajectory)) throw std::invalid_argument("unknown --trajectory " + v);
+  } else if (k == "--seed") {
+    cfg->seed = static_cast<uint32_t>(parseIntegerArg(k, v, 0, 4294967295LL));
+  } else if (k == "--duration") {
+    cfg->duration = parseNumberArg(k, v);
+  } else if (k == "--rate") {
+    cfg->rate = parseNumberArg(k, v);
+  } else if (k == "--imu-rate") {
+    cfg->imu_rate = parseNumberArg(k, v);
+  } else if (k == "--exposure-ms") {
+    cfg->exposure = 1e-3 * parseNumberArg(k, v);
+  } else if (k == "--blur-samples") {
+    cfg->blur_samples = static_cast<int>(parseIntegerArg(k, v, -1, 1000));
+  } else if (k == "--photometric") {
+    cfg->photometric = parseFlagArg(k, v);
+  } else if (k == "--image-noise") {
+    cfg->image_noise = parseFlagArg(k, v);
+  } else if (k == "--imu-noise") {
+    cfg->imu_noise = parseFlagArg(k, v);
+  } else if (k == "--image-scale") {
+    cfg->image_scale = parseNumberArg(k, v);
+  } else if (k == "--texture") {
+    cfg->globe_texture = v;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace hapi_sim
