@@ -59,12 +59,6 @@ case "$MODE" in
     # thread keeps every product on the calling thread: the threads left are
     # the nodelets' own and roscpp's.
     export OMP_NUM_THREADS=1
-    # Likewise OpenCV's parallel_for_ (the simulator's renderer, image
-    # operations) on TBB's threads: TBB is not instrumented, its join is
-    # invisible, and the caller's next use of the stack the workers read
-    # looked like a race (make_sim_bag). One OpenCV thread keeps the loop
-    # bodies on the calling thread.
-    export OPENCV_FOR_THREADS_NUM=1
     ;;
   *)
     echo "usage: tools/sanitize.sh asan|tsan [ctest args]" >&2

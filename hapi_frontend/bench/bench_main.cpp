@@ -48,7 +48,7 @@ Row runConfig(const std::string& name, const PipelineParams& pp, const GlobeWorl
   Row row;
   row.name = name;
   StereoPipeline pipe(pp);
-  const std::string e = pipe.setCalibration(toCalib(w.rig.leftInfo()), toCalib(w.rig.rightInfo()));
+  const std::string e = pipe.setCalibration(copyCameraInfo(w.rig.leftInfo()), copyCameraInfo(w.rig.rightInfo()));
   if (!e.empty()) {
     std::fprintf(stderr, "calibration: %s\n", e.c_str());
     std::exit(1);

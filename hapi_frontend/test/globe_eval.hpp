@@ -26,18 +26,6 @@ namespace globe_eval {
 
 constexpr double kWrongPx = 3.0;
 
-inline CameraCalib toCalib(const hapi_sim::CameraInfoData& i) {
-  CameraCalib c;
-  c.width = i.width;
-  c.height = i.height;
-  c.distortion_model = i.distortion_model;
-  c.D = i.D;
-  c.K = i.K;
-  c.R = i.R;
-  c.P = i.P;
-  return c;
-}
-
 struct GlobeWorld {
   hapi_sim::GlobeScene scene = hapi_sim::GlobeScene::makeDefault();
   hapi_sim::StereoRigModel rig = hapi_sim::StereoRigModel::makeDefault();

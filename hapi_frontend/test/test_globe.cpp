@@ -19,7 +19,7 @@ struct Summary {
 Summary runFrames(const PipelineParams& pp, const std::vector<double>& times, cv::Mat* last_colour = nullptr) {
   static const GlobeWorld w;
   StereoPipeline pipe(pp);
-  EXPECT_EQ(pipe.setCalibration(toCalib(w.rig.leftInfo()), toCalib(w.rig.rightInfo())), "");
+  EXPECT_EQ(pipe.setCalibration(copyCameraInfo(w.rig.leftInfo()), copyCameraInfo(w.rig.rightInfo())), "");
   Summary s;
   for (size_t f = 0; f < times.size(); ++f) {
     const GlobePair p = renderPair(w, times[f], 500 + static_cast<uint32_t>(f));

@@ -88,22 +88,10 @@ struct Recording {
 
 double epochSeconds(int64_t ns) { return static_cast<double>(hapi_sim::kSimEpochNs + ns) * 1e-9; }
 
-hapi_frontend::CameraCalib toCalib(const hapi_dataset::CameraInfoData& c) {
-  hapi_frontend::CameraCalib k;
-  k.width = c.width;
-  k.height = c.height;
-  k.distortion_model = c.distortion_model;
-  k.D = c.D;
-  k.K = c.K;
-  k.R = c.R;
-  k.P = c.P;
-  return k;
-}
-
 Recording record(const hapi_sim::Scenario& sc) {
   Recording rec;
-  rec.left = toCalib(sc.rig().leftInfo());
-  rec.right = toCalib(sc.rig().rightInfo());
+  rec.left = hapi_frontend::copyCameraInfo(sc.rig().leftInfo());
+  rec.right = hapi_frontend::copyCameraInfo(sc.rig().rightInfo());
   // X_cam = T_cam_imu X_imu; the filter takes the camera in the IMU frame.
   const hapi_sim::Pose& T = sc.calibration().T_cam_imu;
   rec.extrinsic.R_imu_cam = T.q.toRotationMatrix().transpose();

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -23,6 +24,23 @@ struct CameraCalib {
   // Empty string when usable, else a human-readable reason (zero K, bad model...).
   std::string validate() const;
 };
+
+// The fields of anything shaped like sensor_msgs/CameraInfo (the message, the
+// simulator's and the dataset reader's CameraInfoData): size, model, D, K,
+// R, P, copied as they are. Checks are the caller's (validate(), the
+// nodelet's toCalib).
+template <typename Info>
+CameraCalib copyCameraInfo(const Info& info) {
+  CameraCalib c;
+  c.width = static_cast<int>(info.width);
+  c.height = static_cast<int>(info.height);
+  c.distortion_model = info.distortion_model;
+  c.D.assign(info.D.begin(), info.D.end());
+  std::copy(info.K.begin(), info.K.end(), c.K.begin());
+  std::copy(info.R.begin(), info.R.end(), c.R.begin());
+  std::copy(info.P.begin(), info.P.end(), c.P.begin());
+  return c;
+}
 
 // Maps observed keypoints to undistorted pixels expressed with this camera's K
 // (the convention of hapi_msgs/StereoLandmark). Only keypoints are undistorted,

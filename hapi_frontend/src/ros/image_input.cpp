@@ -62,13 +62,7 @@ InputError toGrey(const sensor_msgs::ImageConstPtr& msg, int mono16_bits, GreyIm
 }
 
 InputError toCalib(const sensor_msgs::CameraInfo& info, CameraCalib* c) {
-  c->width = static_cast<int>(info.width);
-  c->height = static_cast<int>(info.height);
-  c->distortion_model = info.distortion_model;
-  c->D = info.D;
-  for (int i = 0; i < 9; ++i) c->K[i] = info.K[i];
-  for (int i = 0; i < 9; ++i) c->R[i] = info.R[i];
-  for (int i = 0; i < 12; ++i) c->P[i] = info.P[i];
+  *c = copyCameraInfo(info);
 
   for (double v : c->K) if (!std::isfinite(v)) return err("invalid_calibration", "K contains NaN/Inf");
   for (double v : c->P) if (!std::isfinite(v)) return err("invalid_calibration", "P contains NaN/Inf");
