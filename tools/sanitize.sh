@@ -65,6 +65,14 @@ case "$MODE" in
     exit 2
     ;;
 esac
+# The instrumented pipeline runs a few times slower than the camera (TSan:
+# the front end ~2.3 frames/s), so a bag played at its speed would test
+# dropped frames instead of the code. The system rostests play their bags at
+# this fraction of their speed (frontend_globe.test, test/system/*.test);
+# their checks are in bag time or scale with it. two_hosts.sh keeps its
+# wall-clock phases and does not read it. 0.05: under TSan the inertial
+# rostest needs it (the filter's creation stalls the worker for seconds).
+export HAPI_TEST_PLAY_RATE="${HAPI_TEST_PLAY_RATE:-0.05}"
 [ -f "$RUNTIME" ] || { echo "sanitize.sh: $RUNTIME not found (gcc's sanitizer runtime)" >&2; exit 1; }
 
 WS="${HAPI_WS:-$REPO/.ws-$MODE}"

@@ -56,7 +56,9 @@ trap stopAll EXIT
 startXvfb() {
   rm -f "$OUT/display"
   exec 3>"$OUT/display"
-  Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp >>"$OUT/xvfb.log" 2>&1 &
+  # Xvfb is no process of ours and aborts at start with a sanitizer's runtime
+  # preloaded (tools/sanitize.sh asan preloads it into every process).
+  env -u LD_PRELOAD Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp >>"$OUT/xvfb.log" 2>&1 &
   XVFB_PID=$!
   exec 3>&-
   for _ in $(seq 100); do [ -s "$OUT/display" ] && break; sleep 0.1; done

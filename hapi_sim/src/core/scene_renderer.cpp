@@ -4,24 +4,45 @@
 
 #include "hapi_sim/image_formation.hpp"
 
-// ThreadSanitizer cannot see the join of cv::parallel_for_: its threads are
-// TBB's, an uninstrumented library, so the caller's next use of the stack
-// the stripes read looked like a race. Each stripe releases on `out`'s data
-// as it ends and the caller acquires it after parallel_for_ returns: the
-// order the join guarantees, stated where TSan can see it (docs/RELIABILITY.md
-// "ThreadSanitizer"). No code without TSan.
 #if defined(__SANITIZE_THREAD__)
 extern "C" void __tsan_acquire(void* addr);
 extern "C" void __tsan_release(void* addr);
-#define HAPI_JOINED_BY_CALLER(addr) __tsan_release(addr)
-#define HAPI_JOIN_SEEN(addr) __tsan_acquire(addr)
-#else
-#define HAPI_JOINED_BY_CALLER(addr) static_cast<void>(addr)
-#define HAPI_JOIN_SEEN(addr) static_cast<void>(addr)
 #endif
 
 namespace hapi_sim {
 namespace {
+
+#if defined(__SANITIZE_THREAD__)
+void syncAcquire(const void* key) { __tsan_acquire(const_cast<void*>(key)); }
+void syncRelease(const void* key) { __tsan_release(const_cast<void*>(key)); }
+#else
+void syncAcquire(const void*) {}
+void syncRelease(const void*) {}
+#endif
+
+// Rows [0, rows) of `body` in parallel stripes (cv::parallel_for_, on TBB's
+// threads). ThreadSanitizer sees neither TBB's fork nor its join (an
+// uninstrumented library), so the stripes' reads of the caller's stack and
+// the caller's next use of it looked like races. The caller releases before
+// the loop and acquires after it, each stripe acquires first and releases
+// last: the order fork and join guarantee, stated where TSan sees it
+// (docs/RELIABILITY.md "ThreadSanitizer"). No code without TSan.
+template <typename Body>
+void parallelRows(int rows, const Body& body) {
+  struct Stripes final : cv::ParallelLoopBody {
+    explicit Stripes(const Body& b) : body(b) {}
+    void operator()(const cv::Range& r) const override {
+      syncAcquire(this);
+      body(r);
+      syncRelease(this);
+    }
+    const Body& body;
+  } stripes(body);
+  syncRelease(&stripes);
+  cv::parallel_for_(cv::Range(0, rows), stripes);
+  syncAcquire(&stripes);
+}
+
 // 2x2 pattern of sub-pixel offsets (pixel centres at integers).
 const double kDx[SceneRenderer::kOffsets] = {-0.25, 0.25, 0.25, -0.25};
 const double kDy[SceneRenderer::kOffsets] = {-0.25, 0.25, -0.25, 0.25};
@@ -43,7 +64,7 @@ cv::Mat SceneRenderer::radiance(const std::vector<Pose>& T_sc) const {
   const float inv = 1.0f / static_cast<float>(T_sc.size());
   std::vector<Eigen::Matrix3d> R;
   for (const Pose& P : T_sc) R.push_back(P.q.toRotationMatrix());
-  cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
+  parallelRows(H, [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
       float* row = out.ptr<float>(v);
       for (int u = 0; u < W; ++u) {
@@ -57,9 +78,7 @@ cv::Mat SceneRenderer::radiance(const std::vector<Pose>& T_sc) const {
         row[u] = acc * inv;
       }
     }
-    HAPI_JOINED_BY_CALLER(out.data);
   });
-  HAPI_JOIN_SEEN(out.data);
   return out;
 }
 
