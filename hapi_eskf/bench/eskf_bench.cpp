@@ -27,6 +27,7 @@
 
 #include "hapi_eskf/covariance_backend.hpp"
 #include "../src/core/cpu_linear_algebra.hpp"
+#include "hapi_nodelet_kit/sample_quantiles.hpp"
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
 #include "hapi_eskf/cuda/cuda_backend.hpp"
 #include "../src/cuda/stage_times.hpp"
@@ -171,11 +172,6 @@ std::vector<E> parseList(const std::string& text, const char* flag) {
   return out;
 }
 
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -267,7 +263,7 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   r.predict = median(pr);
   r.update = median(up);
   r.total = median(to);
-  r.total_p99 = quantile(to, 0.99);
+  r.total_p99 = hapi_nodelet_kit::quantileRoundedPosition(to, 0.99, 0.0);
   r.total_max = to.empty() ? 0.0 : *std::max_element(to.begin(), to.end());
   for (double v : to) r.total_mean += v / to.size();
   double fsum = 0;

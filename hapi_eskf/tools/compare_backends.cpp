@@ -39,6 +39,8 @@
 #include "landmark_stream.hpp"
 #include "stream_source.hpp"
 
+#include <hapi_nodelet_kit/sample_quantiles.hpp>
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -100,12 +102,6 @@ double mean(const std::vector<double>& v) {
   for (double x : v)
     if (std::isfinite(x)) { s += x; ++n; }
   return n ? s / n : std::nan("");
-}
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
 }
 
 }  // namespace
@@ -259,8 +255,9 @@ int main(int argc, char** argv) {
                mean(map_nees));
   std::fprintf(sum, "final_map_mae_m %.9g\nfinal_map_nees %.6g\nfinal_map_n %zu\n", mean(final_err), mean(final_nees),
                final_err.size());
-  std::fprintf(sum, "ms_mean %.4f\nms_p50 %.4f\nms_p99 %.4f\nms_max %.4f\n", mean(total_ms), quantile(total_ms, 0.5),
-               quantile(total_ms, 0.99), quantile(total_ms, 1.0));
+  const auto ms = [&](double q) { return hapi_nodelet_kit::quantileRoundedPosition(total_ms, q, std::nan("")); };
+  std::fprintf(sum, "ms_mean %.4f\nms_p50 %.4f\nms_p99 %.4f\nms_max %.4f\n", mean(total_ms), ms(0.5), ms(0.99),
+               ms(1.0));
   std::fclose(sum);
   std::printf("%s: MAE pos %.2f mm rot %.4f rad map %.2f mm | NEES pos %.2f rot %.2f map %.2f | %.1f ms/frame\n",
               label.c_str(), 1e3 * mean(pos_err), mean(rot_err), 1e3 * mean(map_mae), mean(nees_pos), mean(nees_rot),

@@ -34,6 +34,8 @@
 #include "landmark_stream.hpp"
 #include "stream_source.hpp"
 
+#include <hapi_nodelet_kit/sample_quantiles.hpp>
+
 #include <Eigen/SVD>
 
 #include <algorithm>
@@ -359,13 +361,9 @@ int main(int argc, char** argv) {
               n1 ? std::sqrt(sm1 / n1) : 0.0, nn, nn ? std::sqrt(smn / nn) : 0.0, n_far, d_mean);
   // Per-frame filter time distribution (nearest-rank percentiles).
   if (!frame_ms.empty()) {
-    std::vector<double> sorted = frame_ms;
-    std::sort(sorted.begin(), sorted.end());
-    auto pct = [&](double q) {
-      return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(std::ceil(q * sorted.size())) - 1)];
-    };
+    const auto pct = [&](double q) { return hapi_nodelet_kit::quantileNearestRank(frame_ms, q, 0.0); };
     std::printf("frame time [ms]: p50 %.2f p99 %.2f max %.2f over %zu frames (backend %s)\n", pct(0.5), pct(0.99),
-                sorted.back(), sorted.size(), eskf.backend().name());
+                pct(1.0), frame_ms.size(), eskf.backend().name());
   }
   std::printf("frames=%d ate=%.4f m (%.2f %% of %.3f m) max=%.4f map_rms=%.4f m (%zu pts) mean_nis=%.2f mean_ms=%.1f\n",
               n_proc, ate, 100 * ate / dist, dist, emax, lms.empty() ? 0.0 : std::sqrt(sm / lms.size()), lms.size(),

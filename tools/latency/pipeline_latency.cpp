@@ -46,6 +46,7 @@
 #include <hapi_eskf/settings.hpp>
 #include <hapi_frontend/param_spec.hpp>
 #include <hapi_frontend/stereo_pipeline.hpp>
+#include <hapi_nodelet_kit/sample_quantiles.hpp>
 #include <hapi_sim/scenario.hpp>
 #include <hapi_sim/scenario_options.hpp>
 
@@ -83,7 +84,6 @@ struct Recording {
   std::vector<Imu> imu;
   hapi_frontend::CameraCalib left, right;
   hapi_eskf::CameraExtrinsic extrinsic;
-  double time_offset = 0.0;  // t_imu = t_cam + time_offset [s]
 };
 
 double epochSeconds(int64_t ns) { return static_cast<double>(hapi_sim::kSimEpochNs + ns) * 1e-9; }
@@ -96,7 +96,6 @@ Recording record(const hapi_sim::Scenario& sc) {
   const hapi_sim::Pose& T = sc.calibration().T_cam_imu;
   rec.extrinsic.R_imu_cam = T.q.toRotationMatrix().transpose();
   rec.extrinsic.p_imu_cam = -(rec.extrinsic.R_imu_cam * T.p);
-  rec.time_offset = sc.calibration().time_offset_ns * 1e-9;
   sc.play(
       [&](int64_t i, const hapi_sim::ImuReading& r) {
         rec.imu.push_back({epochSeconds(sc.imuTimeNs(i)), r.gyro, r.accel});
@@ -211,12 +210,8 @@ RunResult run(const Variant& v, const Recording& rec, hapi_frontend::PipelinePar
   return out;
 }
 
-// Nearest-rank percentile (q in [0, 1]).
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t i = static_cast<std::size_t>(std::ceil(q * v.size()));
-  return v[std::min(v.size() - 1, i == 0 ? 0 : i - 1)];
+double percentile(const std::vector<double>& v, double q) {
+  return hapi_nodelet_kit::quantileNearestRank(v, q, 0.0);
 }
 
 std::string spread(const std::vector<double>& v) {
