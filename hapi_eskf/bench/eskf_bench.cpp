@@ -8,16 +8,23 @@
 //                   [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]
 //                   [--cpu-la blas,eigen] [--covariance-update dense,partitioned]
 //                   [--partition-max-active N] [--partition-flush-shares 1,4,...]
+//                   [--partition-flush-background 0,1]
 //                   [--scenario random|sweep] [--sweep-step N]
-//                   [--no-cpu-rates]
+//                   [--frame-period-ms T] [--no-cpu-rates]
 // CPU rows: one per --cpu-la x --covariance-update pair (cpu-blas,
 // cpu-eigen, cpu-blas-partitioned, ...), CUDA rows one per --covariance-update
 // (cuda-fp64, cuda-fp64-partitioned), a partitioned row per
-// --partition-flush-shares value (named "... shares N" when N > 1), side by
+// --partition-flush-shares value (named "... shares N" when N > 1) and
+// --partition-flush-background value (named "... background" when 1), side by
 // side in the same run, with
 // this machine's DGEMM/DSYRK rates measured first (cpu_ceilings.hpp).
 // --scenario: which landmarks a frame re-observes (scenario.hpp Visibility):
 // random (the visible set jumps every frame, the default) or sweep.
+// --frame-period-ms: frames start at this period, as from a camera (a frame
+// that ends late starts the next one at once); 0 (the default) runs them back
+// to back. Work a backend defers past a frame (background shares) runs in
+// the time between frames and is only seen in a frame's time when it is not
+// done by the next frame's start.
 // The --precision and --cuda-* flags set the EskfSettings fields of the same
 // names (eskf_settings.def) for the CUDA backend (device 0, where the
 // ceilings are measured). Builds and runs without a GPU (CPU rows only).
@@ -37,9 +44,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <chrono>
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <tuple>
 #include <vector>
 
 using namespace hapi_eskf;
@@ -60,6 +70,8 @@ struct Options {
   std::vector<CovarianceUpdate> cov_update = {CovarianceUpdate::kDense};
   int partition_max_active = EskfSettings().partition_max_active;
   std::vector<int> partition_flush_shares = {EskfSettings().partition_flush_shares};
+  std::vector<int> partition_flush_background = {EskfSettings().partition_flush_background ? 1 : 0};
+  int frame_period_ms = 0;
   Visibility visibility = Visibility::kRandom;
   int sweep_step = 10;
   bool cpu_rates = true;
@@ -74,7 +86,8 @@ std::vector<E> parseList(const std::string& text, const char* flag);
                "       [--precision fp64|fp32] [--cpu-max-k K] [--visible L] [--fresh M] [--rank-reps N]\n"
                "       [--cuda-rank-update auto|syrk|gemm|recursive] [--cuda-solve auto|trsm|inverse] [--cuda-stage-times]\n"
                "       [--cpu-la blas,eigen] [--covariance-update dense,partitioned] [--partition-max-active N]\n"
-               "       [--partition-flush-shares 1,4] [--scenario random|sweep] [--sweep-step N] [--no-cpu-rates]\n",
+               "       [--partition-flush-shares 1,4] [--partition-flush-background 0,1] [--scenario random|sweep]\n"
+               "       [--sweep-step N] [--frame-period-ms T] [--no-cpu-rates]\n",
                msg);
   std::exit(2);
 }
@@ -135,6 +148,12 @@ Options parse(int argc, char** argv) {
       o.partition_max_active = toInt(next(), "--partition-max-active");
     } else if (a == "--partition-flush-shares") {
       o.partition_flush_shares = intList(next(), "--partition-flush-shares");
+    } else if (a == "--partition-flush-background") {
+      o.partition_flush_background = intList(next(), "--partition-flush-background");
+      for (int v : o.partition_flush_background)
+        if (v > 1) usage("--partition-flush-background takes 0 and/or 1");
+    } else if (a == "--frame-period-ms") {
+      o.frame_period_ms = toInt(next(), "--frame-period-ms");
     } else if (a == "--scenario") {
       const std::string v = next();
       if (v == "random") o.visibility = Visibility::kRandom;
@@ -219,7 +238,13 @@ Row run(const std::string& name, std::unique_ptr<CovarianceBackend> b, int K, in
   std::vector<double> a, rm, ad, pr, up, to, bk, nu, mv, fl;
   bool ok = true;
   std::vector<std::vector<double>> stage_samples(kStageCount);
+  const auto period = std::chrono::milliseconds(o.frame_period_ms);
+  auto frame_start = std::chrono::steady_clock::now();
   for (int i = 0; i < warmup + iters; ++i) {
+    if (o.frame_period_ms > 0) {  // the camera's next frame; a late frame starts the next one at once
+      std::this_thread::sleep_until(frame_start);
+      frame_start = std::max(frame_start + period, std::chrono::steady_clock::now());
+    }
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
     if (i == warmup) {  // drop the warm-up ones
       cuda::takeUpdateStageTimes();
@@ -286,6 +311,10 @@ int main(int argc, char** argv) {
   std::printf("stage times are medians over the measured iterations (after %d warm-up on CUDA, %d on CPU), in ms; "
               "total = predict + association + update + removal + addition\n",
               o.warmup, o.cpu_warmup);
+  if (o.frame_period_ms > 0)
+    std::printf("frames start every %d ms (a late frame starts the next at once)\n", o.frame_period_ms);
+  else
+    std::printf("frames run back to back\n");
   if (o.visibility == Visibility::kSweep)
     std::printf("scenario: sweep, the view advances %d landmarks per frame (%d of %d visible change per frame)\n",
                 o.sweep_step, o.sweep_step, o.visible);
@@ -328,16 +357,18 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   std::map<int, RankUpdateTiming> rank;
-  // Rows per backend: (covariance update, flush shares): the dense update
-  // once, the partitioned one per --partition-flush-shares value.
-  std::vector<std::pair<CovarianceUpdate, int>> variants;
+  // Rows per backend: (covariance update, flush shares, background): the
+  // dense update once, the partitioned one per --partition-flush-shares x
+  // --partition-flush-background value.
+  std::vector<std::tuple<CovarianceUpdate, int, bool>> variants;
   for (CovarianceUpdate cu : o.cov_update)
     if (cu == CovarianceUpdate::kPartitioned)
-      for (int shares : o.partition_flush_shares) variants.emplace_back(cu, shares);
+      for (int shares : o.partition_flush_shares)
+        for (int bg : o.partition_flush_background) variants.emplace_back(cu, shares, bg != 0);
     else
-      variants.emplace_back(cu, 1);
-  auto label = [](const std::string& name, int shares) {
-    return shares > 1 ? name + " shares " + std::to_string(shares) : name;
+      variants.emplace_back(cu, 1, false);
+  auto label = [](const std::string& name, int shares, bool bg) {
+    return (shares > 1 ? name + " shares " + std::to_string(shares) : name) + (bg ? " background" : "");
   };
   for (int K : o.ks) {
     if (have_cuda) {
@@ -353,12 +384,13 @@ int main(int argc, char** argv) {
       }
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
       // One row per --covariance-update (the partitioned one FP64 only).
-      for (const auto& [cu, shares] : variants) {
+      for (const auto& [cu, shares, bg] : variants) {
         std::string err;
         EskfSettings s = o.backend;
         s.covariance_update = cu;
         s.partition_max_active = o.partition_max_active;
         s.partition_flush_shares = shares;
+        s.partition_flush_background = bg;
         auto b = cu == CovarianceUpdate::kPartitioned
                      ? cuda::makePartitionedCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, s, &err)
                      : cuda::makeCudaBackend(K, Scenario::kDescLen, kCameraMotionDim, s, &err);
@@ -366,25 +398,25 @@ int main(int argc, char** argv) {
           Row r;
           r.backend = label(std::string("cuda-") + toString(o.backend.precision) +
                                 (cu == CovarianceUpdate::kPartitioned ? "-partitioned" : ""),
-                            shares);
+                            shares, bg);
           r.K = K;
           r.note = err;
           rows.push_back(r);
         } else {
-          const std::string name = label(b->name(), shares);  // before the move (argument order is unspecified)
+          const std::string name = label(b->name(), shares, bg);  // before the move (argument order is unspecified)
           rows.push_back(run(name, std::move(b), K, o.iters, o.warmup, o));
         }
       }
 #endif
     }
     if (o.cpu && K <= o.cpu_max_k)
-      for (const auto& [cu, shares] : variants)
+      for (const auto& [cu, shares, bg] : variants)
         for (CpuLinearAlgebra la : o.cpu_la) {
           auto b = cu == CovarianceUpdate::kPartitioned
                        ? makePartitionedCpuBackend(K, Scenario::kDescLen, kCameraMotionDim, la, o.partition_max_active,
-                                                   shares)
+                                                   shares, bg)
                        : makeCpuBackend(K, Scenario::kDescLen, kCameraMotionDim, la);
-          const std::string name = label(b->name(), shares);
+          const std::string name = label(b->name(), shares, bg);
           rows.push_back(run(name, std::move(b), K, o.cpu_iters, o.cpu_warmup, o));
         }
     for (const Row& r : rows)

@@ -227,6 +227,9 @@ StageTimes Scenario::iterate() {
   if (!check(b_->addLandmarks(nb), "addition", &st)) return st;
   st.n_added = static_cast<int>(nb.size());
   st.addition = msSince(t0);
+  t0 = Clock::now();
+  if (!check(b_->frameCompleted(), "frameCompleted", &st)) return st;
+  st.deferred = msSince(t0);
   (void)t_start;
   if (partitioned) {
     int flushes1 = 0;
@@ -235,8 +238,8 @@ StageTimes Scenario::iterate() {
     st.flushes = flushes1 - flushes0;
     st.flush_ms = 1e3 * (flush_s1 - flush_s0);
   }
-  // Full iteration = the five stages (frame synthesis above is the front end's work).
-  st.total = st.predict + st.association + st.update + st.removal + st.addition;
+  // Full iteration = the six stages (frame synthesis above is the front end's work).
+  st.total = st.predict + st.association + st.update + st.removal + st.addition + st.deferred;
   return st;
 }
 

@@ -3,7 +3,7 @@
 // association, update, eviction (removal of 20) and addition run every
 // iteration. It drives the backend with the filter's own host code
 // (jacobians.hpp, association.hpp) in the order of Eskf::processFrame:
-// predict -> association -> update -> removal -> addition.
+// predict -> association -> update -> removal -> addition -> frameCompleted.
 // Which pool landmarks a frame re-observes (Visibility):
 //  * kRandom: a random set every frame, i.e. the visible set jumps every frame
 //    (the worst case of the partitioned update, and the original scenario);
@@ -29,6 +29,9 @@ namespace bench {
 
 struct StageTimes {
   double association = 0, removal = 0, addition = 0, predict = 0, update = 0, total = 0;
+  // frameCompleted(), the frame's last backend call: starting the work a
+  // backend runs between frames (background flush shares), not that work.
+  double deferred = 0;
   int n_updated = 0, n_added = 0, n_removed = 0;
   // Landmarks the removal moved into freed slots (removal_plan.hpp): each
   // move copies 3 rows/columns of C, 3 (12 + 3K) elements.

@@ -78,6 +78,27 @@ TEST(CpuBackendVariants, PartitionedStagedFlushEqualsDense) {
   EXPECT_FALSE(makePartitionedCpuBackend(100, 8, kCameraMotionDim, CpuLinearAlgebra::kBlas, 30, 0));
 }
 
+// Background shares (docs/DESIGN.md "Background shares"): each share on the
+// worker thread from the end of a frame, beside the next prediction and
+// pose read, with one share (the whole passive product between two frames)
+// and with three; the same sequences, the same bound.
+TEST(CpuBackendVariants, PartitionedBackgroundSharesEqualDense) {
+  for (int shares : {1, 3}) {
+    for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+      auto part = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares, true);
+      auto dense = makeCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas);
+      ASSERT_TRUE(part && dense);
+      Counts c;
+      runSequence(part.get(), dense.get(), 71 + P + shares, 300, 37, P, &c);
+      int flushes = 0;
+      double seconds = 0;
+      ASSERT_TRUE(partitionedFlushStats(*part, &flushes, &seconds));
+      EXPECT_GT(flushes, 10) << "the sequence must exercise flushes";
+      EXPECT_GT(c.removals, 50);
+    }
+  }
+}
+
 // A large active budget: flushes only where the view jumps (an update with
 // mostly passive landmarks) and at the final read-back, so long epochs with
 // stray observations from other areas and removals of passive landmarks

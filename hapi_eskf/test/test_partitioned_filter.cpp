@@ -24,5 +24,14 @@ TEST(PartitionedFilter, StagedFlushMatchesDenseFilter) {
   runFilters(s, 150, 30);
 }
 
+// Background shares (docs/DESIGN.md "Background shares"): the shares run on
+// the worker thread between processFrame calls.
+TEST(PartitionedFilter, BackgroundSharesMatchDenseFilter) {
+  EskfSettings s = testing_settings::basicFilter();
+  s.partition_flush_shares = 2;
+  s.partition_flush_background = true;
+  runFilters(s, 150, 30);
+}
+
 }  // namespace
 }  // namespace hapi_eskf

@@ -17,7 +17,11 @@
 //    denseCovariance() returns the symmetrised matrix;
 //  * every call completes before it returns (timings taken around a call are
 //    honest, also on the GPU), and a call that returns anything but kOk has
-//    left C and the descriptors unchanged.
+//    left C and the descriptors unchanged. The one exception is work a
+//    backend defers on purpose past frameCompleted() (a partitioned
+//    backend's background flush shares): it changes where C is stored, not
+//    the covariance any call reads, and every later call that reads the
+//    stored C waits for it first.
 //
 // Input checks: the public methods are non-virtual. Each validates its inputs
 // (src/core/covariance_backend.cpp, the Status for each fault documented
@@ -127,6 +131,14 @@ class CovarianceBackend : public AssociationSource {
   // empty (slots -1).
   Status matchDescriptors(const uint8_t* queries, int n_query, std::vector<DescriptorMatch>* out) const final;
 
+  // The caller has made a frame's last call (Eskf::processFrame's end): work
+  // the backend defers to the time between frames may start now and run
+  // until a later call needs it (docs/DESIGN.md "Background shares"; the
+  // partitioned backends with partition_flush_background). kOk and nothing
+  // done for every other backend; kBackendError when the work could not be
+  // started on the device.
+  virtual Status frameCompleted() { return Status::kOk; }
+
   // Read-back for tests, the map and diagnostics (not used in the filter loop).
   virtual PoseMat poseCovariance() const = 0;                 // P x P
   virtual std::vector<Mat3> landmarkCovariances() const = 0;  // K marginal 3x3 blocks
@@ -163,11 +175,13 @@ std::unique_ptr<CovarianceBackend> makeCpuBackend(int capacity, int descriptor_l
 // The partitioned CPU backend (docs/DESIGN.md "Partitioned update"): exact,
 // per-update work in the active landmarks, the rest of C deferred to a flush
 // when more than max_active landmarks are active, its passive part applied in
-// flush_shares shares over the next updates (1: at once; "Staged flush").
-// Same contract and results as makeCpuBackend's; nullptr on bad sizes
-// (max_active < 1 or flush_shares < 1 too).
+// flush_shares shares over the next updates (1: at once; "Staged flush"), or
+// with flush_background over the times between frames, on a worker thread
+// ("Background shares"). Same contract and results as makeCpuBackend's;
+// nullptr on bad sizes (max_active < 1 or flush_shares < 1 too).
 std::unique_ptr<CovarianceBackend> makePartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim,
-                                                             CpuLinearAlgebra la, int max_active, int flush_shares);
+                                                             CpuLinearAlgebra la, int max_active, int flush_shares,
+                                                             bool flush_background = false);
 // Flush accounting of the partitioned backends (CPU and CUDA), read through
 // partitionedFlushStats.
 class PartitionedFlushCounter {

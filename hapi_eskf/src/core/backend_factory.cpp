@@ -50,7 +50,8 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
     if (s.cpu_linear_algebra == CpuLinearAlgebra::kBlas) cpu_la::setBlasThreads(s.cpu_blas_threads);
     if (s.covariance_update == CovarianceUpdate::kPartitioned)
       return makePartitionedCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model),
-                                       s.cpu_linear_algebra, s.partition_max_active, s.partition_flush_shares);
+                                       s.cpu_linear_algebra, s.partition_max_active, s.partition_flush_shares,
+                                       s.partition_flush_background);
     return makeCpuBackend(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s.cpu_linear_algebra);
   }
 #ifdef HAPI_ESKF_WITH_CUDA

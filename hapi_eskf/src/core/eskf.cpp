@@ -200,7 +200,13 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   IterationReport rep;
   rep.n_measurements = static_cast<int>(frame_in.measurements.size());
   rep.n_landmarks = numLandmarks();
+  // Every exit: the frame's backend calls are done, so work the backend
+  // defers to the time between frames starts here (frameCompleted).
   auto finish = [&](Status s) {
+    if (backend_) {
+      const Status deferred = backend_->frameCompleted();
+      if (s == Status::kOk) s = deferred;
+    }
     rep.t_total_ms = msSince(t_start);
     rep.n_landmarks = numLandmarks();
     if (report) *report = rep;

@@ -21,6 +21,12 @@
 // applied in row shares by the next updates (staged_flush.hpp); every read of
 // the stored C in between (joins, passive marginals) subtracts what its
 // entries still owe, and removals keep the debt where slot moves take it.
+// Background shares (flush_background, docs/DESIGN.md "Background shares"):
+// frameCompleted() starts the next share on a worker thread; it writes only
+// rows of the stored C (reading Xp_ and Psip_), and every method that reads
+// or changes those waits for it first (finishShare). The prediction, the
+// pose block, the descriptors and their matching do not touch them and run
+// beside it.
 #include "cpu_linear_algebra.hpp"
 #include "cpu_update_steps.hpp"
 #include "lower_triangle.hpp"
@@ -33,6 +39,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <future>
+#include <utility>
 
 namespace hapi_eskf {
 namespace {
@@ -43,19 +51,23 @@ using Eigen::VectorXd;
 class PartitionedCpuBackend final : public CovarianceBackend, public PartitionedFlushCounter {
  public:
   PartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim, CpuLinearAlgebra la, int max_active,
-                        int flush_shares)
+                        int flush_shares, bool flush_background)
       : CovarianceBackend(pose_dim),
         la_(cpu_la::effective(la)),
         capacity_(capacity),
         desc_len_(descriptor_length),
         max_active_(max_active),
         flush_shares_(flush_shares),
+        background_(flush_background),
         N_(stateDim(capacity, pose_dim)),
         C_(MatrixXd::Zero(N_, N_)),
         desc_(static_cast<std::size_t>(capacity) * descriptor_length, 0),
         active_pos_(capacity, -1),
         in_basis_(capacity, 0) {
     startEpoch();
+  }
+  ~PartitionedCpuBackend() override {
+    if (share_.valid()) share_.wait();  // the worker writes C_
   }
 
   const char* name() const override {
@@ -75,12 +87,14 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   // is pending; the pose block is current without one.
   PoseMat poseCovariance() const override { return Caa_.topLeftCorner(poseDim(), poseDim()); }
   std::vector<Mat3> landmarkCovariances() const override {
+    finishShare();
     flush(true);
     std::vector<Mat3> out(K_);
     for (int k = 0; k < K_; ++k) out[k] = lower_triangle::symmetricBlock(C_, row(k), 3);
     return out;
   }
   MatrixXd denseCovariance() const override {
+    finishShare();
     flush(true);
     return lower_triangle::symmetricBlock(C_, 0, dim());
   }
@@ -93,8 +107,23 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   double flushSeconds() const override { return flush_seconds_; }
   int activeLandmarks() const { return static_cast<int>(active_.size()); }
 
+  // The next share of a pending correction on the worker thread, unless the
+  // last one still runs (a frame without a call that waited for it): that
+  // one goes on, the next starts at a later frame's end.
+  Status frameCompleted() override {
+    if (!background_ || !pending()) return Status::kOk;
+    if (share_.valid()) {
+      if (share_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return Status::kOk;
+      share_.get();
+    }
+    const std::pair<int, int> rows = takeShare();
+    share_ = std::async(std::launch::async, [this, rows] { correctRows(Xp_, Psip_, rows.first, rows.second); });
+    return Status::kOk;
+  }
+
  protected:
   Status doReset(const PoseMat& C_pose) override {
+    finishShare();
     K_ = 0;
     std::fill(active_pos_.begin(), active_pos_.end(), -1);
     std::fill(in_basis_.begin(), in_basis_.end(), 0);
@@ -124,6 +153,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   // C(pose, j) = (Phi_p c_j)^T and C_jj = C^0_jj - c_j^T Psi c_j, the
   // a0 x a0 product done once for all of them (one DGEMM).
   Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
+    finishShare();
     std::vector<std::size_t> passive;
     for (std::size_t i = 0; i < slots.size(); ++i)
       if (active_pos_[slots[i]] < 0) passive.push_back(i);
@@ -155,6 +185,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
+    finishShare();
     const partition::EpochStep step = partition::planEpochStep(blocks, active_pos_, join_view_);
     join_view_ = false;
     if (step.new_epoch) {
@@ -213,7 +244,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     *dx = std::move(dxn);
     if (nis) *nis = y.squaredNorm();
     updated_in_epoch_ = true;
-    advancePending();
+    if (!background_) advancePending();
     if (activeLandmarks() > max_active_) flush();
     return Status::kOk;
   }
@@ -222,6 +253,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   // with the active part is G_pose C_[dp dtheta],A, with the passive part
   // G_pose Phi_[dp dtheta] C^0_{A0,B} (new rows of Phi).
   Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
+    finishShare();
     const int a = activeDim(), a0 = basisDim(), n = dim();
     const int M = static_cast<int>(blocks.size());
     const MatrixXd C6a = Caa_.topRows(6);  // 6 x a, before the addition
@@ -255,6 +287,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   // Otherwise removed active landmarks leave Caa_ and Phi, removed passive ones
   // need nothing, and the stored C, X_ and the descriptors follow the shared plan.
   Status doRemoveLandmarks(const std::vector<int>& slots) override {
+    finishShare();
     for (int s : slots)
       if (in_basis_[s]) {
         flush();
@@ -360,14 +393,14 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   //   C_BB <- C^0_BB - (X Psi) X^T (one rank-a0 product over the whole lower
   //   triangle; the active rows it also touches are overwritten next),
   //   row of active index i <- (Phi X^T)_i outside A, Caa_ inside A.
-  // Staged (flush_shares > 1, not `complete`): C_BB's product is left
-  // pending instead (startPending). One correction is pending at a time: an
-  // earlier one is finished first.
+  // Staged (flush_shares > 1 or background shares, not `complete`): C_BB's
+  // product is left pending instead (startPending). One correction is
+  // pending at a time: an earlier one is finished first.
   // Logically const: the represented covariance does not change (the object
   // itself is never const, so the cast is defined; callers hold the filter's lock).
   void flush(bool complete = false) const {
     auto* self = const_cast<PartitionedCpuBackend*>(this);
-    self->doFlush(complete || flush_shares_ <= 1);
+    self->doFlush(complete || (flush_shares_ <= 1 && !background_));
   }
   void doFlush(bool at_once) {
     applyPendingRows(dim());
@@ -461,9 +494,23 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   // One share per update, equal in work (partition::nextStagedRow).
   void advancePending() {
     if (!pending()) return;
-    const int r1 = partition::nextStagedRow(pend_done_, dim(), pend_left_);
-    if (pend_left_ > 1) --pend_left_;  // the last share ends at dim(), where applyPendingRows clears it
-    applyPendingRows(r1);
+    const std::pair<int, int> rows = takeShare();
+    correctRows(Xp_, Psip_, rows.first, rows.second);
+  }
+
+  // The rows [r0, r) of the next share, counted as applied (the caller
+  // applies them before anything reads them).
+  std::pair<int, int> takeShare() {
+    const int r0 = pend_done_, r = std::min(partition::nextStagedRow(pend_done_, dim(), pend_left_), dim());
+    if (pend_left_ > 1) --pend_left_;  // the last share ends at dim()
+    pend_done_ = std::max(r0, r);
+    if (pend_done_ >= dim()) pend_left_ = 0;
+    return {r0, r};
+  }
+
+  // Waits for a background share (rethrowing what it threw).
+  void finishShare() const {
+    if (share_.valid()) share_.get();
   }
 
   // G (n x |cols|, gathered columns `cols` of the stored C) minus what its
@@ -534,6 +581,7 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   int desc_len_;
   int max_active_;
   int flush_shares_;
+  bool background_;
   int N_;
   int K_ = 0;
   MatrixXd C_;
@@ -552,6 +600,8 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   bool join_view_ = false;
   int flushes_ = 0;
   double flush_seconds_ = 0;
+  // The background share running on the worker thread (flush_background).
+  mutable std::future<void> share_;
 };
 
 }  // namespace
@@ -565,11 +615,13 @@ bool partitionedFlushStats(const CovarianceBackend& b, int* flushes, double* sec
 }
 
 std::unique_ptr<CovarianceBackend> makePartitionedCpuBackend(int capacity, int descriptor_length, int pose_dim,
-                                                             CpuLinearAlgebra la, int max_active, int flush_shares) {
+                                                             CpuLinearAlgebra la, int max_active, int flush_shares,
+                                                             bool flush_background) {
   if (capacity < 0 || descriptor_length < 0 || pose_dim < 6 || pose_dim > kMaxPoseDim || max_active < 1 ||
       flush_shares < 1)
     return nullptr;
-  return std::make_unique<PartitionedCpuBackend>(capacity, descriptor_length, pose_dim, la, max_active, flush_shares);
+  return std::make_unique<PartitionedCpuBackend>(capacity, descriptor_length, pose_dim, la, max_active, flush_shares,
+                                                 flush_background);
 }
 
 }  // namespace hapi_eskf

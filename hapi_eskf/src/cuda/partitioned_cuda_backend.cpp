@@ -16,6 +16,11 @@
 // in the CPU variant, C_BB's correction stays pending (Xp_, Psip_) and is
 // applied in row shares by the next updates; reads of the stored C subtract
 // what their entries still owe, and removals settle the entries they move.
+// Background shares (partition_flush_background, docs/DESIGN.md "Background
+// shares"): frameCompleted() queues the next share on the stream and returns
+// without waiting; every call that reads or changes the stored C or grows a
+// buffer waits for the stream first (waitShare), and the pose block is kept
+// on the host so that reading it does not wait.
 #include "hapi_eskf/cuda/cuda_backend.hpp"
 #include "hapi_eskf/partition_epoch.hpp"
 #include "hapi_eskf/staged_flush.hpp"
@@ -38,11 +43,12 @@ using Dense = CudaBackend<double>;
 
 class PartitionedCudaBackend final : public CovarianceBackend, public PartitionedFlushCounter {
  public:
-  PartitionedCudaBackend(std::unique_ptr<Dense> dense, int max_active, int flush_shares)
+  PartitionedCudaBackend(std::unique_ptr<Dense> dense, int max_active, int flush_shares, bool flush_background)
       : CovarianceBackend(dense->poseDim()),
         dense_(std::move(dense)),
         max_active_(max_active),
         flush_shares_(flush_shares),
+        background_(flush_background),
         ld_(dense_->ld()),
         stream_(dense_->stream()),
         blas_(dense_->blas()),
@@ -72,7 +78,7 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
         failed(cudaMemcpyAsync(pose_idx_.get(), pose.data(), P * sizeof(int), cudaMemcpyHostToDevice, stream_),
                "cudaMemcpyAsync(pose indices)", why))
       return false;
-    if (startEpoch() != Status::kOk) {
+    if (startEpoch() != Status::kOk || readPoseBlock() != Status::kOk) {
       *why = last_error_;
       return false;
     }
@@ -92,35 +98,36 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   int flushes() const override { return flushes_; }
   double flushSeconds() const override { return flush_seconds_; }
 
-  // The pose block is current in Caa; read-backs of the map flush first (the
-  // represented covariance does not change, only where it is stored).
-  PoseMat poseCovariance() const override {
-    const int P = poseDim();
-    PoseMat out = PoseMat::Constant(P, P, std::numeric_limits<double>::quiet_NaN());
-    std::vector<double> h(static_cast<std::size_t>(P) * P);
-    if (cudaMemcpy2DAsync(h.data(), P * sizeof(double), Caa_.get(), ca_ * sizeof(double), P * sizeof(double), P,
-                          cudaMemcpyDeviceToHost, stream_) != cudaSuccess ||
-        cudaStreamSynchronize(stream_) != cudaSuccess)
-      return out;
-    for (int c = 0; c < P; ++c)
-      for (int r = c; r < P; ++r) out(r, c) = out(c, r) = h[r + static_cast<std::size_t>(P) * c];
-    return out;
-  }
+  // The pose block: the host copy of Caa's (readPoseBlock); read-backs of
+  // the map flush first (the represented covariance does not change, only
+  // where it is stored).
+  PoseMat poseCovariance() const override { return pose_block_; }
   std::vector<Mat3> landmarkCovariances() const override {
-    if (flush(true) != Status::kOk)
+    if (waitShare() != Status::kOk || flush(true) != Status::kOk)
       return std::vector<Mat3>(numLandmarks(), Mat3::Constant(std::numeric_limits<double>::quiet_NaN()));
     return dense_->landmarkCovariances();
   }
   Eigen::MatrixXd denseCovariance() const override {
-    if (flush(true) != Status::kOk)
+    if (waitShare() != Status::kOk || flush(true) != Status::kOk)
       return Eigen::MatrixXd::Constant(dim(), dim(), std::numeric_limits<double>::quiet_NaN());
     return dense_->denseCovariance();
   }
   std::vector<uint8_t> descriptors() const override { return dense_->descriptors(); }
 
+  // The next share of a pending correction, queued on the stream; the host
+  // does not wait for it.
+  Status frameCompleted() override {
+    if (!background_ || !pending()) return Status::kOk;
+    const Status st = advancePending(false);
+    share_queued_ = true;
+    return st;
+  }
+
  protected:
   Status doReset(const PoseMat& C_pose) override {
-    const Status st = dense_->reset(C_pose);
+    Status st = waitShare();
+    if (st != Status::kOk) return st;
+    st = dense_->reset(C_pose);
     if (st != Status::kOk) return st;
     std::fill(active_pos_.begin(), active_pos_.end(), -1);
     std::fill(in_basis_.begin(), in_basis_.end(), 0);
@@ -128,7 +135,8 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     basis_.clear();
     pend_left_ = 0;
     join_view_ = false;
-    return startEpoch();
+    st = startEpoch();
+    return st == Status::kOk ? readPoseBlock() : st;
   }
 
   // Only the pose rows change: Caa's pose block and cross rows as the dense
@@ -146,14 +154,15 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
                                      static_cast<int>(ca_), 0.0, small_.get(), P));
     HAPI_CUDA_TRY(cudaMemcpy2DAsync(Phi_.get(), ca_ * sizeof(double), small_.get(), P * sizeof(double),
                                     P * sizeof(double), a0, cudaMemcpyDeviceToDevice, stream_));
-    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
     touched_ = true;
-    return Status::kOk;
+    return readPoseBlock();  // synchronises
   }
 
   // Active slots from Caa; passive ones in one batch with c = C^0(A0, slots)
   // (rows of X): C(pose, j) = (Phi_p c_j)^T, C_jj = C^0_jj - c_j^T Psi c_j.
   Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
+    const Status sw = waitShare();
+    if (sw != Status::kOk) return sw;
     const int P = poseDim(), cnt = static_cast<int>(slots.size()), a0 = a0_;
     std::vector<int> passive, act_idx(cnt), rows;
     for (int i = 0; i < cnt; ++i) {
@@ -238,18 +247,21 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   }
 
   Status doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) override {
+    Status st = waitShare();
+    if (st != Status::kOk) return st;
     const partition::EpochStep step = partition::planEpochStep(blocks, active_pos_, join_view_);
     join_view_ = false;
     if (step.new_epoch) {
-      Status st = flush(true);
+      st = flush(true);
       if (st != Status::kOk) return st;
       st = dense_->update(blocks, dx, nis);
       if (st != Status::kOk) return st;
       st = startEpoch();
+      if (st == Status::kOk) st = readPoseBlock();
       if (st != Status::kOk) return st;
       return join(step.join);
     }
-    Status st = join(step.join);
+    st = join(step.join);
     if (st != Status::kOk) return st;
 
     const int n = dim(), a = a_, a0 = a0_, L = static_cast<int>(blocks.size()), m3 = 3 * L;
@@ -314,11 +326,12 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
     HAPI_CUDA_TRY(Blas<double>::syrk(blas_, a, m3, -1.0, PA, a, 1.0, Caa_.get(), lda));
     HAPI_CUDA_TRY(Blas<double>::gemm(blas_, false, false, a, a0, m3, -1.0, PA, a, V, m3, 1.0, Phi_.get(), lda));
     HAPI_CUDA_TRY(Blas<double>::syrkT(blas_, a0, m3, 1.0, V, m3, 1.0, Psi_.get(), static_cast<int>(cb_)));
-    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    st = readPoseBlock();  // synchronises
+    if (st != Status::kOk) return st;
     *dx = std::move(dxd);
     if (nis) *nis = y2;
     updated_in_epoch_ = touched_ = true;
-    st = advancePending();
+    if (!background_) st = advancePending(true);
     if (st != Status::kOk) return st;
     if (activeLandmarks() > max_active_) return flush();
     return Status::kOk;
@@ -330,6 +343,8 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   // counts them; the rows it writes into the stored C are never read before
   // the next flush overwrites them (they are active rows), as X's new rows.
   Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) override {
+    const Status sw = waitShare();
+    if (sw != Status::kOk) return sw;
     const int a = a_, a0 = a0_, n = dim(), M = static_cast<int>(blocks.size()), K = numLandmarks();
     std::vector<double> hG, hN;
     std::vector<uint8_t> hd;
@@ -360,6 +375,8 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   // Removed active landmarks leave Caa and Phi; the stored C and the
   // descriptors follow the shared plan in the dense backend, X's rows here.
   Status doRemoveLandmarks(const std::vector<int>& slots) override {
+    const Status sw = waitShare();
+    if (sw != Status::kOk) return sw;
     for (int s : slots)
       if (in_basis_[s]) {
         const Status st = flush();
@@ -544,7 +561,7 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   // for Xp. One correction is pending at a time: an earlier one is finished
   // first.
   Status flush(bool complete = false) const {
-    return const_cast<PartitionedCudaBackend*>(this)->doFlush(complete || flush_shares_ <= 1);
+    return const_cast<PartitionedCudaBackend*>(this)->doFlush(complete || (flush_shares_ <= 1 && !background_));
   }
   Status doFlush(bool at_once) {
     Status st = applyPendingRows(dim());
@@ -621,6 +638,11 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   // `count` doubles, else an own buffer; null when that cannot be allocated.
   double* scratch(std::size_t count) {
     if (count <= dense_->workspaceCount()) return dense_->workspace();
+    // Growing frees the old buffer, which queued work (a background share) may still use.
+    if (count > flush_.count() && cudaStreamSynchronize(stream_) != cudaSuccess) {
+      last_error_ = "cudaStreamSynchronize before growing the partitioned scratch failed";
+      return nullptr;
+    }
     if (flush_.ensure(count) != cudaSuccess) {
       last_error_ = "cudaMalloc(partitioned scratch of " + std::to_string(count) + " doubles) failed";
       return nullptr;
@@ -654,26 +676,50 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   // --- Staged flush (staged_flush.hpp) ---
   bool pending() const { return pend_left_ > 0; }
 
-  // The pending correction applied to the rows [done, r1) (ends synchronised).
-  Status applyPendingRows(int r1) {
+  // The pending correction applied to the rows [done, r1): ends
+  // synchronised, or with `wait` false only queued (a background share).
+  Status applyPendingRows(int r1, bool wait = true) {
     if (!pending()) return Status::kOk;
     const int r0 = pend_done_, r = std::min(r1, dim());
     if (r > r0) {
       const Status st = correctRows(Xp_.get(), Psip_.get(), a0p_, a0p_, r0, r);
       if (st != Status::kOk) return st;
-      HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+      if (wait) HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
       pend_done_ = r;
     }
     if (pend_done_ >= dim()) pend_left_ = 0;
     return Status::kOk;
   }
 
-  // One share per update, equal in work (partition::nextStagedRow).
-  Status advancePending() {
+  // One share, equal in work (partition::nextStagedRow): per update, or per
+  // frame in the background.
+  Status advancePending(bool wait) {
     if (!pending()) return Status::kOk;
     const int r1 = partition::nextStagedRow(pend_done_, dim(), pend_left_);
     if (pend_left_ > 1) --pend_left_;  // the last share ends at dim(), where applyPendingRows clears it
-    return applyPendingRows(r1);
+    return applyPendingRows(r1, wait);
+  }
+
+  // A queued background share finished (its errors reported here).
+  Status waitShare() const {
+    if (!share_queued_) return Status::kOk;
+    share_queued_ = false;
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    return Status::kOk;
+  }
+
+  // The host copy of Caa's pose block, after every call that changes it
+  // (synchronises the stream).
+  Status readPoseBlock() {
+    const int P = poseDim();
+    std::vector<double> h(static_cast<std::size_t>(P) * P);
+    HAPI_CUDA_TRY(cudaMemcpy2DAsync(h.data(), P * sizeof(double), Caa_.get(), ca_ * sizeof(double),
+                                    P * sizeof(double), P, cudaMemcpyDeviceToHost, stream_));
+    HAPI_CUDA_TRY(cudaStreamSynchronize(stream_));
+    pose_block_.resize(P, P);
+    for (int c = 0; c < P; ++c)
+      for (int r = c; r < P; ++r) pose_block_(r, c) = pose_block_(c, r) = h[r + static_cast<std::size_t>(P) * c];
+    return Status::kOk;
   }
 
   // *D = Xp Psip Xp_cols^T (n x w, leading dim n) for the w state rows in
@@ -748,6 +794,7 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   std::unique_ptr<Dense> dense_;  // stored C (C^0), descriptors, dense update
   const int max_active_;
   const int flush_shares_;
+  const bool background_;         // partition_flush_background
   const std::size_t ld_;          // of C and X
   cudaStream_t stream_;
   cublasHandle_t blas_;
@@ -778,6 +825,9 @@ class PartitionedCudaBackend final : public CovarianceBackend, public Partitione
   mutable DeviceBuffer<double> owed_small_;
   int a0p_ = 0, pend_done_ = 0, pend_left_ = 0;
   bool join_view_ = false;
+  // A background share queued on the stream and not yet waited for.
+  mutable bool share_queued_ = false;
+  PoseMat pose_block_;  // host copy of Caa's pose block (readPoseBlock)
   int flushes_ = 0;
   double flush_seconds_ = 0;
   mutable std::string last_error_;
@@ -806,7 +856,7 @@ std::unique_ptr<CovarianceBackend> makePartitionedCudaBackend(int capacity, int 
   if (!base) return nullptr;
   std::unique_ptr<Dense> dense(static_cast<Dense*>(base.release()));  // fp64: a CudaBackend<double>
   auto b = std::make_unique<PartitionedCudaBackend>(std::move(dense), s.partition_max_active,
-                                                    s.partition_flush_shares);
+                                                    s.partition_flush_shares, s.partition_flush_background);
   std::string why;
   if (!b->init(&why)) {
     *err = "partitioned CUDA backend (capacity " + std::to_string(capacity) + "): " + why;

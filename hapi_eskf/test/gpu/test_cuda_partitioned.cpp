@@ -19,11 +19,12 @@ using testing_sequence::Counts;
 using testing_sequence::runSequence;
 
 std::unique_ptr<CovarianceBackend> makeCudaPartitioned(int capacity, int pose_dim, int max_active,
-                                                       int flush_shares = 1) {
+                                                       int flush_shares = 1, bool background = false) {
   EskfSettings s = cudaSettings();
   s.covariance_update = CovarianceUpdate::kPartitioned;
   s.partition_max_active = max_active;
   s.partition_flush_shares = flush_shares;
+  s.partition_flush_background = background;
   std::string err;
   auto b = cuda::makePartitionedCudaBackend(capacity, 8, pose_dim, s, &err);
   EXPECT_TRUE(b) << err;
@@ -105,6 +106,38 @@ TEST(CudaPartitioned, StagedFlushEqualsDenseAndCpuStaged) {
       EXPECT_EQ(flushesOf(*gpu2), flushesOf(*cpu));
     }
   }
+}
+
+// Background shares (docs/DESIGN.md "Background shares"): queued on the
+// stream at the end of each frame; against the dense CPU backend and the CPU
+// variant with background shares (the same shares at the same frames).
+TEST(CudaPartitioned, BackgroundSharesEqualDenseAndCpuBackground) {
+  HAPI_REQUIRE_CUDA_DEVICE();
+  for (int shares : {1, 3}) {
+    for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+      auto gpu = makeCudaPartitioned(100, P, 30, shares, true);
+      auto dense = makeCpuBackend(100, 8, P);
+      ASSERT_TRUE(gpu && dense);
+      Counts c;
+      runSequence(gpu.get(), dense.get(), 71 + P + shares, 300, 37, P, &c);
+      if (HasFatalFailure()) return;
+      EXPECT_GT(flushesOf(*gpu), 10);
+      auto gpu2 = makeCudaPartitioned(100, P, 30, shares, true);
+      auto cpu = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares, true);
+      ASSERT_TRUE(gpu2 && cpu);
+      runSequence(gpu2.get(), cpu.get(), 81 + P + shares, 300, 25, P, &c);
+      if (HasFatalFailure()) return;
+      EXPECT_EQ(flushesOf(*gpu2), flushesOf(*cpu));
+    }
+  }
+}
+
+TEST(CudaPartitioned, BackgroundSharesFilterMatchesDenseCpuFilter) {
+  HAPI_REQUIRE_CUDA_DEVICE();
+  EskfSettings s = testing_settings::basicFilter();
+  s.partition_flush_shares = 2;
+  s.partition_flush_background = true;
+  testing_partitioned::runFilters(s, 150, 30, BackendKind::kCuda);
 }
 
 TEST(CudaPartitioned, StagedFlushFilterMatchesDenseCpuFilter) {
