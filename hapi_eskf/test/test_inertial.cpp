@@ -3,8 +3,10 @@
 //  * the step's F and the camera Jacobian against central finite differences;
 //  * the step's Q against the Monte-Carlo spread of noisy propagations;
 //  * the gravity alignment of a still and of a moving start;
+//  * the first-estimate transition keeps the unobservable directions;
 //  * the whole filter on an analytic trajectory with a biased, noisy IMU:
-//    the pose follows the truth and the bias estimates end within 3 sigma.
+//    the pose follows the truth and the bias estimates end within 3 sigma,
+//    also with first-estimate Jacobians.
 #include "basic_settings.hpp"
 #include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/eskf.hpp"
@@ -79,6 +81,57 @@ TEST(InertialModel, StepJacobianMatchesFiniteDifferences) {
     m->step(x, dt, &imu, &y, &F, &Q);
     const Eigen::MatrixXd Fn = numericStepJacobian(*m, x, dt, imu);
     EXPECT_LT((Fn - Eigen::MatrixXd(F)).cwiseAbs().maxCoeff(), 1e-7) << "dt " << dt << "\n" << Fn - F;
+  }
+}
+
+// The unobservable directions of the inertial state at (p, R, v, g): a
+// global translation (dp = I) and a global rotation (dp = -[p]x, dtheta =
+// R^T, dv = -[v]x, dg = -[g]x); docs/DESIGN.md "First-estimate Jacobians".
+Eigen::Matrix<double, kInertialDim, 6> nullSpace(const NominalState& x, const Vec3& g) {
+  Eigen::Matrix<double, kInertialDim, 6> N = Eigen::Matrix<double, kInertialDim, 6>::Zero();
+  N.block<3, 3>(kIdxP, 0) = Mat3::Identity();
+  N.block<3, 3>(kIdxP, 3) = -skew(x.p);
+  N.block<3, 3>(kIdxTheta, 3) = x.q.toRotationMatrix().transpose();
+  N.block<3, 3>(kIdxV, 3) = -skew(x.v);
+  N.block<3, 3>(kIdxG, 3) = -skew(g);
+  return N;
+}
+
+// A step that starts after an update moved the means: the transition at the
+// latest means maps the null space at the predicted state (where the update
+// was linearised) onto a different one than the null space at the step's
+// end, which gives the filter information along unobservable directions;
+// the first-estimate transition maps it exactly, and equals the usual one
+// when nothing moved the means.
+TEST(InertialModel, FirstEstimateTransitionKeepsTheNullSpace) {
+  const auto m = makeMotionModel(inertialSettings(), sim::forwardCamera());
+  const NominalState lin = someState();  // predicted, before the update
+  NominalState x = lin;                   // after the update
+  Eigen::VectorXd dx = Eigen::VectorXd::Zero(kInertialDim);
+  dx.segment<3>(kIdxP) = Vec3(0.01, -0.02, 0.015);
+  dx.segment<3>(kIdxTheta) = Vec3(0.02, 0.01, -0.03);
+  dx.segment<3>(kIdxV) = Vec3(-0.05, 0.03, 0.02);
+  dx.segment<3>(kIdxG) = Vec3(0.02, -0.01, 0.03);
+  m->inject(&x, dx);
+  for (double dt : {0.005, 0.1}) {
+    const ImuSample imu{1.0, Vec3(0.9, -0.3, 1.4), Vec3(0.8, 9.4, -0.6)};
+    NominalState next;
+    PoseMat F, Q;
+    m->step(x, dt, &imu, &next, &F, &Q);
+    // Gravity keeps its first estimate in the null space.
+    const auto N0 = nullSpace(lin, lin.g), N1 = nullSpace(next, lin.g);
+    const double usual = (F * N0 - N1).cwiseAbs().maxCoeff();
+    m->firstEstimateTransition(lin, next, dt, &F);
+    const double fe = (F * N0 - N1).cwiseAbs().maxCoeff();
+    EXPECT_LT(fe, 1e-12) << "dt " << dt;
+    EXPECT_GT(usual, 1e-4) << "dt " << dt << ": the usual transition is not what is tested";
+    // Nothing moved the means: the first-estimate transition is the usual one.
+    NominalState next0;
+    PoseMat F0, Fe;
+    m->step(lin, dt, &imu, &next0, &F0, &Q);
+    Fe = F0;
+    m->firstEstimateTransition(lin, next0, dt, &Fe);
+    EXPECT_LT((Fe - F0).cwiseAbs().maxCoeff(), 1e-12) << "dt " << dt;
   }
 }
 
@@ -238,8 +291,10 @@ struct InertialRun {
 };
 
 // The filter on the analytic trajectory: 200 Hz IMU, 10 Hz stereo frames.
-InertialRun runInertial(unsigned seed, double duration, const sim::ImuNoiseModel& noise) {
+InertialRun runInertial(unsigned seed, double duration, const sim::ImuNoiseModel& noise,
+                        bool first_estimate_jacobians = false) {
   EskfSettings s = inertialSettings();
+  s.first_estimate_jacobians = first_estimate_jacobians;
   s.max_landmarks = 300;
   s.max_new_landmarks = 30;
   s.max_update_landmarks = 60;
@@ -292,20 +347,24 @@ InertialRun runInertial(unsigned seed, double duration, const sim::ImuNoiseModel
 
 TEST(InertialFilter, TracksTheTrajectoryAndTheBiasesConverge) {
   const sim::ImuNoiseModel noise;
-  const InertialRun r = runInertial(11, 20.0, noise);
-  EXPECT_GE(r.awaiting, 1);  // the first frames wait for the alignment window
-  EXPECT_LE(r.awaiting, 4);
-  EXPECT_GT(r.frames, 190);
-  EXPECT_LT(r.max_pos_err, 0.05);
-  EXPECT_LT(r.max_rot_err, 0.02);
-  for (int i = 0; i < 3; ++i) {
-    EXPECT_LT(std::abs(r.b_g[i] - noise.b_g[i]), 3 * r.sigma_b_g[i]) << "gyro bias " << i;
-    EXPECT_LT(std::abs(r.b_a[i] - noise.b_a[i]), 3 * r.sigma_b_a[i]) << "accelerometer bias " << i;
-    // Converged: the uncertainty is well below the bias itself.
-    EXPECT_LT(r.sigma_b_g[i], 0.5 * std::abs(noise.b_g[i])) << i;
+  for (bool fej : {false, true}) {
+    SCOPED_TRACE(fej ? "first-estimate Jacobians" : "Jacobians at the latest means");
+    const InertialRun r = runInertial(11, 20.0, noise, fej);
+    EXPECT_GE(r.awaiting, 1);  // the first frames wait for the alignment window
+    EXPECT_LE(r.awaiting, 4);
+    EXPECT_GT(r.frames, 190);
+    EXPECT_LT(r.max_pos_err, 0.05);
+    EXPECT_LT(r.max_rot_err, 0.02);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_LT(std::abs(r.b_g[i] - noise.b_g[i]), 3 * r.sigma_b_g[i]) << "gyro bias " << i;
+      EXPECT_LT(std::abs(r.b_a[i] - noise.b_a[i]), 3 * r.sigma_b_a[i]) << "accelerometer bias " << i;
+      // Converged: the uncertainty is well below the bias itself.
+      EXPECT_LT(r.sigma_b_g[i], 0.5 * std::abs(noise.b_g[i])) << i;
+    }
+    std::printf("inertial run%s: max pos err %.4f m, max rot err %.4f rad, |b_g err| %.5f rad/s, |b_a err| %.4f m/s^2\n",
+                fej ? " (first estimates)" : "", r.max_pos_err, r.max_rot_err, (r.b_g - noise.b_g).norm(),
+                (r.b_a - noise.b_a).norm());
   }
-  std::printf("inertial run: max pos err %.4f m, max rot err %.4f rad, |b_g err| %.5f rad/s, |b_a err| %.4f m/s^2\n",
-              r.max_pos_err, r.max_rot_err, (r.b_g - noise.b_g).norm(), (r.b_a - noise.b_a).norm());
 }
 
 // The device is still, the scanned scene moves (translation and rotation,

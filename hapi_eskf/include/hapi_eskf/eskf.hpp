@@ -115,12 +115,22 @@ class Eskf final : public SlamBackend {
   Status predictStepTo(double stamp, const ImuSample* imu);
   Status flushPrediction();  // the chained steps into the backend's C
   void clearPendingPrediction();
+  // First estimates of the pose block (settings first_estimate_jacobians):
+  // restart at the current state (after a reset, an alignment or a move of
+  // the means), or follow a committed prediction step (gravity keeps its
+  // first estimate).
+  void restartFirstEstimates() { lin_ = state_; }
+  void advanceFirstEstimates();
   Status align();
 
   EskfSettings settings_;
   std::unique_ptr<CovarianceBackend> backend_;
   std::unique_ptr<MotionModel> model_;
   NominalState state_;
+  // The pose block's first estimates (docs/DESIGN.md "First-estimate
+  // Jacobians"): the state as predicted, not corrected since; gravity as
+  // first estimated.
+  NominalState lin_;
   double time_ = 0.0;
   // Prediction steps not yet applied to the backend's C (predictStepTo):
   // their chained transition and noise; poseCovariance() includes them.

@@ -1,6 +1,7 @@
 // The host record of the landmark map and the bookkeeping policy every back
 // end follows (docs/DESIGN.md "Back ends", "One iteration"): per slot the id,
-// world position (the mean), colour, times observed and last seen, in the
+// world position (the mean), its first estimate (docs/DESIGN.md
+// "First-estimate Jacobians"), colour, times observed and last seen, in the
 // slot order of the back end's own storage; and the choices of one frame:
 //  * measurements used in the update: the associated ones with the strongest
 //    detector response, at most max_update_landmarks (response is
@@ -36,6 +37,8 @@ class LandmarkBook {
   void clear();
   int size() const { return static_cast<int>(ids_.size()); }
   const std::vector<Vec3>& positions() const { return positions_; }
+  // Where each landmark was first estimated (never corrected).
+  const std::vector<Vec3>& firstEstimates() const { return first_estimates_; }
   const std::vector<uint64_t>& ids() const { return ids_; }
   const std::vector<double>& lastSeen() const { return last_seen_; }
   const std::vector<int>& timesObserved() const { return times_observed_; }
@@ -64,8 +67,10 @@ class LandmarkBook {
   void correct(const Eigen::VectorXd& dx, int pose_dim);
   // Removes the slots (the back end's storage applies the same plan).
   void remove(const std::vector<int>& slots);
-  // A new landmark at the next slot, observed once at `stamp`; returns its id.
+  // A new landmark at the next slot, observed once at `stamp`; returns its
+  // id. Its first estimate is `position` unless given.
   uint64_t add(const Vec3& position, const std::array<uint8_t, 3>& rgb, double stamp);
+  uint64_t add(const Vec3& position, const std::array<uint8_t, 3>& rgb, double stamp, const Vec3& first_estimate);
 
   // The map as LandmarkInfo, with the back end's marginal covariances (slot
   // order; missing entries are zero).
@@ -75,6 +80,7 @@ class LandmarkBook {
   uint64_t next_id_ = 1;
   std::vector<uint64_t> ids_;
   std::vector<Vec3> positions_;
+  std::vector<Vec3> first_estimates_;
   std::vector<std::array<uint8_t, 3>> colours_;
   std::vector<int> times_observed_;
   std::vector<double> last_seen_;

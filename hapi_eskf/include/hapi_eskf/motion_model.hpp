@@ -108,6 +108,17 @@ class MotionModel {
   // inertial model holds the last sample). next, F (P x P), Q (P x P).
   virtual void step(const NominalState& x, double dt, const ImuSample* imu, NominalState* next, PoseMat* F,
                     PoseMat* Q) const = 0;
+  // The transition of the step x -> next re-evaluated at first estimates
+  // (docs/DESIGN.md "First-estimate Jacobians"): `lin` is the step's start
+  // as first estimated (the predicted state where an update came between,
+  // gravity at its first estimate), `next` the propagated mean; F's blocks
+  // along the unobservable directions are rewritten from the two so that F
+  // maps the null space at `lin` onto the one at `next`. A model whose F
+  // does not depend on those states leaves F unchanged (the default).
+  virtual void firstEstimateTransition(const NominalState& lin, const NominalState& next, double dt,
+                                       PoseMat* F) const {
+    (void)lin, (void)next, (void)dt, (void)F;
+  }
   // x <- x (+) dx (the pose block of a correction, length P).
   virtual void inject(NominalState* x, const Eigen::Ref<const Eigen::VectorXd>& dx) const = 0;
   // The error e (length P) with x = x_hat (+) e, for the models' state
@@ -146,9 +157,11 @@ ImuSample imuSampleOnCameraClock(double imu_stamp, const Vec3& gyro, const Vec3&
 // kInvalidArgument (stamp before *time); stamp == *time is a no-op (kOk).
 // Eskf (covariance in the backend) and the nodelet's PosePropagator (its own
 // pose covariance) both run this one path.
+// `lin` (optional): the step's start as first estimated; F is then
+// MotionModel::firstEstimateTransition's.
 template <typename ApplyCovariance>
 Status predictStep(const MotionModel& model, NominalState* x, double* time, double stamp, const ImuSample* imu,
-                   ApplyCovariance&& apply) {
+                   ApplyCovariance&& apply, const NominalState* lin = nullptr) {
   if (!std::isfinite(stamp)) return Status::kNonFinite;
   if (imu != nullptr && (!imu->gyro.allFinite() || !imu->accel.allFinite())) return Status::kNonFinite;
   if (stamp < *time) return Status::kInvalidArgument;
@@ -157,6 +170,7 @@ Status predictStep(const MotionModel& model, NominalState* x, double* time, doub
   NominalState next;
   PoseMat F, Q;
   model.step(*x, dt, imu, &next, &F, &Q);
+  if (lin != nullptr) model.firstEstimateTransition(*lin, next, dt, &F);
   const Status st = apply(F, Q);
   if (st != Status::kOk) return st;
   *x = next;

@@ -66,6 +66,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   PoseState camera = initial;
   camera.q.normalize();
   state_ = model_->fromCamera(camera);
+  restartFirstEstimates();
   time_ = stamp;
   relocaliser_.reset(stamp);
   awaiting_alignment_ = model_->kind() == MotionModelKind::kInertial;
@@ -82,6 +83,7 @@ Status Eskf::setCameraExtrinsic(const CameraExtrinsic& extrinsic) {
   const PoseState camera = pose();
   model_ = makeMotionModel(settings_, extrinsic);
   model_->moveCameraTo(&state_, camera.p, camera.q);
+  restartFirstEstimates();
   return Status::kOk;
 }
 
@@ -93,7 +95,8 @@ Status Eskf::setCameraExtrinsic(const CameraExtrinsic& extrinsic) {
 // exactly the sequence of single steps, but the O(K) cross-block product
 // runs once per frame instead of once per IMU sample.
 Status Eskf::predictStepTo(double stamp, const ImuSample* imu) {
-  return predictStep(*model_, &state_, &time_, stamp, imu, [this](const PoseMat& F, const PoseMat& Q) {
+  const NominalState* lin = settings_.first_estimate_jacobians ? &lin_ : nullptr;
+  const Status st = predictStep(*model_, &state_, &time_, stamp, imu, [this](const PoseMat& F, const PoseMat& Q) {
     const PoseMat F_acc = F * pending_F_;
     PoseMat Q_acc = F * pending_Q_ * F.transpose() + Q;
     Q_acc = (0.5 * (Q_acc + Q_acc.transpose())).eval();
@@ -102,7 +105,15 @@ Status Eskf::predictStepTo(double stamp, const ImuSample* imu) {
     pending_Q_ = Q_acc;
     pending_steps_ = true;
     return Status::kOk;
-  });
+  }, lin);
+  if (st == Status::kOk) advanceFirstEstimates();
+  return st;
+}
+
+void Eskf::advanceFirstEstimates() {
+  const Vec3 g = lin_.g;
+  lin_ = state_;
+  lin_.g = g;
 }
 
 Status Eskf::flushPrediction() {
@@ -157,6 +168,7 @@ Status Eskf::align() {
   if (st != Status::kOk) return st;
   clearPendingPrediction();
   state_ = start.x;
+  restartFirstEstimates();
   time_ = alignment_samples_.back().stamp;
   relocaliser_.reset(time_);
   for (const ImuSample& m : alignment_samples_) scene_motion_.addImu(m, state_.b_g);
@@ -231,14 +243,18 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // --- predict ---
   // After an outage longer than relocalise_gap the last velocity says nothing
   // about the motion since: predict from rest (settings.hpp).
-  const NominalState state_before = state_;
-  if (relocaliser_.beginFrame(frame.stamp)) model_->stop(&state_);
+  const NominalState state_before = state_, lin_before = lin_;
+  if (relocaliser_.beginFrame(frame.stamp)) {
+    model_->stop(&state_);
+    restartFirstEstimates();
+  }
   auto t0 = Clock::now();
   st = predictStepTo(frame.stamp, nullptr);
   if (st == Status::kOk) st = flushPrediction();
   rep.t_predict_ms = msSince(t0);
   if (st != Status::kOk) {
     state_ = state_before;  // a rejected frame changes nothing
+    lin_ = lin_before;
     relocaliser_.rollback();
     return finish(st);
   }
@@ -278,6 +294,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     if (vision_leads && !relocaliser_.pending() && frame.stamp > previous_frame_stamp)
       model_->correctVelocity(&state_, assoc.fit_t - pose().p, frame.stamp - previous_frame_stamp);
     model_->moveCameraTo(&state_, assoc.fit_t, Eigen::Quaterniond(assoc.fit_R).normalized());
+    restartFirstEstimates();
     rep.relocalised = relocaliser_.fitApplied();
     st = associate(frame, pose(), model_->cameraJacobian(state_), book_.positions(), *backend_, settings_, &assoc);
   }
@@ -297,16 +314,23 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   Status result = Status::kOk;
   const std::vector<int> used_meas = LandmarkBook::chooseUpdates(assoc, by_response, settings_);
   std::vector<char> used_slot(numLandmarks(), 0);
+  // The frame's predicted camera pose and its Jacobian: the update's
+  // linearisation point, and with first-estimate Jacobians also the new
+  // landmarks' (docs/DESIGN.md "First-estimate Jacobians").
+  const bool fej = settings_.first_estimate_jacobians;
+  const PoseState camera_predicted = pose();
+  const Mat6 J_predicted = model_->cameraJacobian(state_);
   if (!used_meas.empty()) {
-    const PoseState camera = pose();
-    const Mat6 J = model_->cameraJacobian(state_);
+    const PoseState& camera = camera_predicted;
+    const Mat6& J = J_predicted;
+    const std::vector<Vec3>& lin_positions = fej ? book_.firstEstimates() : book_.positions();
     std::vector<MeasurementBlock> blocks(used_meas.size());
     for (std::size_t j = 0; j < used_meas.size(); ++j) {
       const int i = used_meas[j], k = assoc.slot[i];
       MeasurementBlock& b = blocks[j];
       b.slot = k;
       Mat36 H_camera;
-      measurementJacobian(camera, book_.positions()[k], &H_camera, &b.H_landmark);
+      measurementJacobian(camera, lin_positions[k], &H_camera, &b.H_landmark);
       b.H_pose = H_camera * J;
       b.R = frame.measurements[i].Cz;
       b.innovation = frame.measurements[i].z - measure(camera, book_.positions()[k]);
@@ -358,13 +382,16 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   t0 = Clock::now();
   const PoseState camera = pose();
   if (n_add > 0) {
-    const Mat6 J = model_->cameraJacobian(state_);
+    // First estimates: the Jacobians at the predicted pose, which also
+    // places the landmark's first estimate; the mean from the corrected one.
+    const PoseState& camera_lin = fej ? camera_predicted : camera;
+    const Mat6 J = fej ? J_predicted : model_->cameraJacobian(state_);
     std::vector<NewLandmarkBlock> blocks(n_add);
     for (int j = 0; j < n_add; ++j) {
       const int i = add_meas[j];
       const StereoMeasurement& m = frame.measurements[i];
       Mat36 G_camera;
-      newLandmarkJacobian(camera, m.z, &G_camera, &blocks[j].G_z);
+      newLandmarkJacobian(camera_lin, m.z, &G_camera, &blocks[j].G_z);
       blocks[j].G_pose = G_camera * J;
       blocks[j].Cz = m.Cz;
       blocks[j].descriptor =
@@ -378,7 +405,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     }
     for (int j = 0; j < n_add; ++j) {
       const StereoMeasurement& m = frame.measurements[add_meas[j]];
-      book_.add(initLandmark(camera, m.z), m.rgb, frame.stamp);
+      book_.add(initLandmark(camera, m.z), m.rgb, frame.stamp, initLandmark(camera_lin, m.z));
     }
     rep.n_added = n_add;
   }

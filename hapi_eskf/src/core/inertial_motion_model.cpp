@@ -154,6 +154,27 @@ class InertialMotionModel final : public MotionModel {
     Q->block<3, 3>(kIdxBa, kIdxBa) = I * (s_.accel_random_walk * s_.accel_random_walk * dt);
   }
 
+  // First estimates (docs/DESIGN.md "First-estimate Jacobians"): with the
+  // global rotation's null space N = [dp -[p]x, dtheta R^T, dv -[v]x,
+  // dg -[g]x] at (p, R, v, g), F N(lin) = N(next) needs
+  //   F_thth = R_next^T R_lin,
+  //   F_vth  = -[v_next - v_lin - g_lin dt]x R_lin,
+  //   F_pth  = -[p_next - p_lin - v_lin dt - g_lin dt^2 / 2]x R_lin,
+  // which equal step()'s blocks when lin is the step's start; the bias
+  // columns take R_lin as well.
+  void firstEstimateTransition(const NominalState& lin, const NominalState& next, double dt,
+                               PoseMat* F) const override {
+    const Mat3 R = lin.q.toRotationMatrix(), Rn = next.q.toRotationMatrix();
+    const double dt2 = 0.5 * dt * dt;
+    const Vec3 dv = next.v - lin.v - lin.g * dt;
+    const Vec3 dp = next.p - lin.p - lin.v * dt - lin.g * dt2;
+    F->block<3, 3>(kIdxTheta, kIdxTheta) = Rn.transpose() * R;
+    F->block<3, 3>(kIdxV, kIdxTheta) = -skew(dv) * R;
+    F->block<3, 3>(kIdxP, kIdxTheta) = -skew(dp) * R;
+    F->block<3, 3>(kIdxP, kIdxBa) = -R * dt2;
+    F->block<3, 3>(kIdxV, kIdxBa) = -R * dt;
+  }
+
   void inject(NominalState* x, const Eigen::Ref<const Eigen::VectorXd>& dx) const override {
     x->p += dx.segment<3>(kIdxP);
     x->q = (x->q * quatExp(dx.segment<3>(kIdxTheta))).normalized();

@@ -12,6 +12,7 @@ namespace hapi_eskf {
 void LandmarkBook::clear() {
   ids_.clear();
   positions_.clear();
+  first_estimates_.clear();
   colours_.clear();
   times_observed_.clear();
   last_seen_.clear();
@@ -87,14 +88,21 @@ void LandmarkBook::remove(const std::vector<int>& slots) {
   const int K_new = K - static_cast<int>(slots.size());
   applyRemoval(moves, K_new, &ids_);
   applyRemoval(moves, K_new, &positions_);
+  applyRemoval(moves, K_new, &first_estimates_);
   applyRemoval(moves, K_new, &colours_);
   applyRemoval(moves, K_new, &times_observed_);
   applyRemoval(moves, K_new, &last_seen_);
 }
 
 uint64_t LandmarkBook::add(const Vec3& position, const std::array<uint8_t, 3>& rgb, double stamp) {
+  return add(position, rgb, stamp, position);
+}
+
+uint64_t LandmarkBook::add(const Vec3& position, const std::array<uint8_t, 3>& rgb, double stamp,
+                           const Vec3& first_estimate) {
   ids_.push_back(next_id_++);
   positions_.push_back(position);
+  first_estimates_.push_back(first_estimate);
   colours_.push_back(rgb);
   times_observed_.push_back(1);
   last_seen_.push_back(stamp);
