@@ -56,25 +56,31 @@ TEST(CpuBackendVariants, PartitionedEqualsDenseOverLongSequences) {
   }
 }
 
+// A staged partitioned backend (`shares`, shares in the background or not)
+// against the dense one on the long random sequences, for both pose blocks.
+void expectStagedEqualsDense(int shares, bool background, unsigned seed) {
+  for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+    SCOPED_TRACE("shares " + std::to_string(shares) + (background ? " background" : "") + ", P " +
+                 std::to_string(P));
+    auto part = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares, background);
+    auto dense = makeCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas);
+    ASSERT_TRUE(part && dense);
+    Counts c;
+    runSequence(part.get(), dense.get(), seed + P + shares, 300, 37, P, &c);
+    int flushes = 0;
+    double seconds = 0;
+    ASSERT_TRUE(partitionedFlushStats(*part, &flushes, &seconds));
+    EXPECT_GT(flushes, 10) << "the sequence must exercise flushes";
+    EXPECT_GT(c.removals, 50);
+  }
+}
+
 // Staged flushes (docs/DESIGN.md "Staged flush"): the passive part of each
 // flush pending over the next 2 or 5 updates, while joins and passive
 // marginals read the stored C, removals move pending entries across the
 // applied rows, and the next flush or a read-back finishes it early.
 TEST(CpuBackendVariants, PartitionedStagedFlushEqualsDense) {
-  for (int shares : {2, 5}) {
-    for (int P : {kCameraMotionDim, kMaxPoseDim}) {
-      auto part = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares);
-      auto dense = makeCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas);
-      ASSERT_TRUE(part && dense);
-      Counts c;
-      runSequence(part.get(), dense.get(), 51 + P + shares, 300, 37, P, &c);
-      int flushes = 0;
-      double seconds = 0;
-      ASSERT_TRUE(partitionedFlushStats(*part, &flushes, &seconds));
-      EXPECT_GT(flushes, 10) << "the sequence must exercise flushes";
-      EXPECT_GT(c.removals, 50);
-    }
-  }
+  for (int shares : {2, 5}) expectStagedEqualsDense(shares, false, 51);
   EXPECT_FALSE(makePartitionedCpuBackend(100, 8, kCameraMotionDim, CpuLinearAlgebra::kBlas, 30, 0));
 }
 
@@ -83,20 +89,7 @@ TEST(CpuBackendVariants, PartitionedStagedFlushEqualsDense) {
 // pose read, with one share (the whole passive product between two frames)
 // and with three; the same sequences, the same bound.
 TEST(CpuBackendVariants, PartitionedBackgroundSharesEqualDense) {
-  for (int shares : {1, 3}) {
-    for (int P : {kCameraMotionDim, kMaxPoseDim}) {
-      auto part = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares, true);
-      auto dense = makeCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas);
-      ASSERT_TRUE(part && dense);
-      Counts c;
-      runSequence(part.get(), dense.get(), 71 + P + shares, 300, 37, P, &c);
-      int flushes = 0;
-      double seconds = 0;
-      ASSERT_TRUE(partitionedFlushStats(*part, &flushes, &seconds));
-      EXPECT_GT(flushes, 10) << "the sequence must exercise flushes";
-      EXPECT_GT(c.removals, 50);
-    }
-  }
+  for (int shares : {1, 3}) expectStagedEqualsDense(shares, true, 71);
 }
 
 // A large active budget: flushes only where the view jumps (an update with

@@ -83,52 +83,46 @@ TEST(CudaPartitioned, EqualsCpuPartitioned) {
   }
 }
 
-// Staged flushes (docs/DESIGN.md "Staged flush"): against the dense CPU
-// backend, and against the staged CPU variant with the same calls (the same
-// flushes and shares).
+// A staged CUDA backend (`shares`, shares in the background or not) against
+// the dense CPU backend (seed) and against the CPU variant with the same
+// settings and calls, hence the same flushes and shares (seed + 10).
+void expectStagedEqualsDenseAndCpu(int shares, bool background, unsigned seed) {
+  for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+    SCOPED_TRACE("shares " + std::to_string(shares) + (background ? " background" : "") + ", P " +
+                 std::to_string(P));
+    auto gpu = makeCudaPartitioned(100, P, 30, shares, background);
+    auto dense = makeCpuBackend(100, 8, P);
+    ASSERT_TRUE(gpu && dense);
+    Counts c;
+    runSequence(gpu.get(), dense.get(), seed + P + shares, 300, 37, P, &c);
+    if (::testing::Test::HasFatalFailure()) return;
+    EXPECT_GT(flushesOf(*gpu), 10);
+    EXPECT_GT(c.removals, 50);
+    auto gpu2 = makeCudaPartitioned(100, P, 30, shares, background);
+    auto cpu = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares, background);
+    ASSERT_TRUE(gpu2 && cpu);
+    runSequence(gpu2.get(), cpu.get(), seed + 10 + P + shares, 300, 25, P, &c);
+    if (::testing::Test::HasFatalFailure()) return;
+    EXPECT_EQ(flushesOf(*gpu2), flushesOf(*cpu));
+  }
+}
+
+// Staged flushes (docs/DESIGN.md "Staged flush").
 TEST(CudaPartitioned, StagedFlushEqualsDenseAndCpuStaged) {
   HAPI_REQUIRE_CUDA_DEVICE();
   for (int shares : {2, 5}) {
-    for (int P : {kCameraMotionDim, kMaxPoseDim}) {
-      auto gpu = makeCudaPartitioned(100, P, 30, shares);
-      auto dense = makeCpuBackend(100, 8, P);
-      ASSERT_TRUE(gpu && dense);
-      Counts c;
-      runSequence(gpu.get(), dense.get(), 51 + P + shares, 300, 37, P, &c);
-      if (HasFatalFailure()) return;
-      EXPECT_GT(flushesOf(*gpu), 10);
-      EXPECT_GT(c.removals, 50);
-      auto gpu2 = makeCudaPartitioned(100, P, 30, shares);
-      auto cpu = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares);
-      ASSERT_TRUE(gpu2 && cpu);
-      runSequence(gpu2.get(), cpu.get(), 61 + P + shares, 300, 25, P, &c);
-      if (HasFatalFailure()) return;
-      EXPECT_EQ(flushesOf(*gpu2), flushesOf(*cpu));
-    }
+    expectStagedEqualsDenseAndCpu(shares, false, 51);
+    if (HasFatalFailure()) return;
   }
 }
 
 // Background shares (docs/DESIGN.md "Background shares"): queued on the
-// stream at the end of each frame; against the dense CPU backend and the CPU
-// variant with background shares (the same shares at the same frames).
+// stream at the end of each frame.
 TEST(CudaPartitioned, BackgroundSharesEqualDenseAndCpuBackground) {
   HAPI_REQUIRE_CUDA_DEVICE();
   for (int shares : {1, 3}) {
-    for (int P : {kCameraMotionDim, kMaxPoseDim}) {
-      auto gpu = makeCudaPartitioned(100, P, 30, shares, true);
-      auto dense = makeCpuBackend(100, 8, P);
-      ASSERT_TRUE(gpu && dense);
-      Counts c;
-      runSequence(gpu.get(), dense.get(), 71 + P + shares, 300, 37, P, &c);
-      if (HasFatalFailure()) return;
-      EXPECT_GT(flushesOf(*gpu), 10);
-      auto gpu2 = makeCudaPartitioned(100, P, 30, shares, true);
-      auto cpu = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, shares, true);
-      ASSERT_TRUE(gpu2 && cpu);
-      runSequence(gpu2.get(), cpu.get(), 81 + P + shares, 300, 25, P, &c);
-      if (HasFatalFailure()) return;
-      EXPECT_EQ(flushesOf(*gpu2), flushesOf(*cpu));
-    }
+    expectStagedEqualsDenseAndCpu(shares, true, 71);
+    if (HasFatalFailure()) return;
   }
 }
 
