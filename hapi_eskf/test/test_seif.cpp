@@ -1,10 +1,12 @@
 // The SEIF back end (seif/seif_storage.hpp) on a short simulated stream
 // (sim_scenario.hpp): without sparsification it equals the ES-EKF to
 // rounding; sparsified, its pose and map stay within bounds, the active set
-// within its bound, its covariances PSD; bad input leaves it unchanged.
+// within its bound, its covariances PSD; bad input leaves it unchanged. The
+// sparsification step against the textbook formula.
 #include "basic_settings.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/seif/seif_storage.hpp"
+#include "hapi_eskf/seif/sparsification.hpp"
 #include "hapi_eskf/slam_backend.hpp"
 #include "sim_scenario.hpp"
 
@@ -13,6 +15,8 @@
 
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <random>
 
 namespace hapi_eskf {
 namespace {
@@ -65,6 +69,42 @@ std::unique_ptr<SlamBackend> make(const EskfSettings& s) {
 PoseState start(const Stream& st) {
   PoseState p = st.truth.front();
   return p;
+}
+
+// sparsifiedInformation against Thrun's formula written out,
+// Omega - T(m0) + T(x, m0) - T(x) with T(S) = Omega_.S Omega_SS^-1 Omega_S.,
+// on random information matrices (12 and 18 pose rows, m+ and m0 of several
+// sizes): equal to 1e-9 relative, the x-m0 links zero.
+TEST(SeifSparsification, EqualsTheTextbookFormula) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int P : {kCameraMotionDim, kMaxPoseDim})
+    for (int keep : {0, 3, 20})
+      for (int drop : {1, 7, 40}) {
+        const int n = P + 3 * (keep + drop), m0 = P + 3 * keep;
+        Eigen::MatrixXd X(n, n + 5);
+        for (int r = 0; r < n; ++r)
+          for (int c = 0; c < n + 5; ++c) X(r, c) = g(rng);
+        const Eigen::MatrixXd Om = X * X.transpose() + Eigen::MatrixXd::Identity(n, n);
+        auto T = [&](const std::vector<int>& S) {
+          const Eigen::MatrixXd OS = Om(Eigen::all, S);
+          const Eigen::MatrixXd SS = Om(S, S);
+          return Eigen::MatrixXd(OS * SS.llt().solve(OS.transpose()));
+        };
+        std::vector<int> x(P), m0_idx(n - m0), xm0;
+        std::iota(x.begin(), x.end(), 0);
+        std::iota(m0_idx.begin(), m0_idx.end(), m0);
+        xm0 = x;
+        xm0.insert(xm0.end(), m0_idx.begin(), m0_idx.end());
+        const Eigen::MatrixXd ref = Om - T(m0_idx) + T(xm0) - T(x);
+        Eigen::MatrixXd out;
+        ASSERT_TRUE(seif::sparsifiedInformation(Om, P, 3 * keep, &out));
+        const double scale = Om.cwiseAbs().maxCoeff();
+        EXPECT_LT((out - ref).cwiseAbs().maxCoeff(), 1e-9 * scale) << "P " << P << " keep " << keep << " drop " << drop;
+        EXPECT_LT(ref.block(0, m0, P, n - m0).cwiseAbs().maxCoeff(), 1e-9 * scale);  // what the formula promises
+        EXPECT_EQ(out.block(0, m0, P, n - m0).cwiseAbs().maxCoeff(), 0.0);
+        EXPECT_EQ(out.block(m0, 0, n - m0, P).cwiseAbs().maxCoeff(), 0.0);
+      }
 }
 
 TEST(Seif, WithoutSparsificationEqualsTheEskf) {

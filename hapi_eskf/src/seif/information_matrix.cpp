@@ -19,8 +19,10 @@ void InformationMatrix::reset(const PoseMat& omega_xx) {
 
 Eigen::MatrixXd InformationMatrix::gather(const std::vector<int>& slots) const {
   const int P = poseDim(), n = P + 3 * static_cast<int>(slots.size());
-  std::unordered_map<int, int> local;
-  local.reserve(2 * slots.size());
+  // Row of each gathered slot (-1: not gathered). A plain array: every link
+  // of every gathered slot is looked up, and a landmark has hundreds of links
+  // once the pool is full (a hash map made this the SEIF's hottest loop).
+  std::vector<int> local(numLandmarks(), -1);
   for (std::size_t i = 0; i < slots.size(); ++i) local[slots[i]] = P + 3 * static_cast<int>(i);
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
   M.topLeftCorner(P, P) = xx_;
@@ -31,10 +33,8 @@ Eigen::MatrixXd InformationMatrix::gather(const std::vector<int>& slots) const {
       M.block(r, 0, 3, P) = xm_[k].transpose();
     }
     M.block<3, 3>(r, r) = mm_[k];
-    for (const auto& [j, B] : links_[k]) {
-      const auto it = local.find(j);
-      if (it != local.end()) M.block<3, 3>(r, it->second) = B;
-    }
+    for (const auto& [j, B] : links_[k])
+      if (local[j] >= 0) M.block<3, 3>(r, local[j]) = B;
   }
   return M;
 }

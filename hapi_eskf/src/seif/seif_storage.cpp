@@ -6,6 +6,7 @@
 
 #include "hapi_eskf/motion_model.hpp"
 #include "hapi_eskf/removal_plan.hpp"
+#include "hapi_eskf/seif/sparsification.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -92,41 +93,55 @@ const SeifStorage::LocalCovariance& SeifStorage::local() const {
 // Active slot: read from Sigma_D. Passive slot k, conditioned on the other
 // passive landmarks: with u = Sigma_D Omega_Dk, Sigma_kk = (Omega_kk -
 // Omega_kD u)^-1, Sigma_Dk = -u Sigma_kk, Sigma_DD|k = Sigma_D + u Sigma_kk u^T.
-bool SeifStorage::slotCovariance(int k, Mat9* M) const {
+// The u of all passive slots are one product Sigma_D [Omega_Dk ...] (a
+// full pool gates ~200 candidates per frame, mostly passive).
+void SeifStorage::slotCovariances(const std::vector<int>& slots, std::vector<Mat9>* out,
+                                  std::vector<char>* ok) const {
   const LocalCovariance& L = local();
-  if (!L.ok) return false;
-  const int r = L.local_row[k];
-  if (r >= 0) {
-    M->topLeftCorner<6, 6>() = L.sigma.topLeftCorner(6, 6);
-    M->block<6, 3>(0, 6) = L.sigma.block(0, r, 6, 3);
-    M->block<3, 6>(6, 0) = L.sigma.block(r, 0, 3, 6);
-    M->block<3, 3>(6, 6) = L.sigma.block(r, r, 3, 3);
-    return true;
+  ok->assign(slots.size(), 0);
+  if (!L.ok) return;
+  const int D = static_cast<int>(L.sigma.rows());
+  std::vector<std::size_t> passive;
+  for (std::size_t i = 0; i < slots.size(); ++i)
+    if (L.local_row[slots[i]] < 0) passive.push_back(i);
+  MatrixXd Bd = MatrixXd::Zero(D, 3 * static_cast<Eigen::Index>(passive.size()));  // [Omega_Dk ...]
+  for (std::size_t u = 0; u < passive.size(); ++u)
+    for (const auto& [j, B] : omega_.links(slots[passive[u]])) {
+      const int rj = L.local_row[j];
+      if (rj >= 0) Bd.block<3, 3>(rj, 3 * u) = B.transpose();  // Omega_jk = B^T
+    }
+  const MatrixXd U = L.sigma * Bd;
+  std::size_t u = 0;
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    Mat9& M = (*out)[i];
+    const int r = L.local_row[slots[i]];
+    if (r >= 0) {
+      M.topLeftCorner<6, 6>() = L.sigma.topLeftCorner(6, 6);
+      M.block<6, 3>(0, 6) = L.sigma.block(0, r, 6, 3);
+      M.block<3, 6>(6, 0) = L.sigma.block(r, 0, 3, 6);
+      M.block<3, 3>(6, 6) = L.sigma.block(r, r, 3, 3);
+      (*ok)[i] = 1;
+      continue;
+    }
+    const Mat3 s = omega_.diagonal(slots[i]) - Bd.middleCols<3>(3 * u).transpose() * U.middleCols<3>(3 * u);
+    const Eigen::Matrix<double, 6, 3> ux = U.block<6, 3>(0, 3 * u);
+    ++u;
+    const Eigen::LLT<Mat3> llt(0.5 * (s + s.transpose()));
+    if (llt.info() != Eigen::Success) continue;
+    const Mat3 Skk = llt.solve(Mat3::Identity());
+    M.topLeftCorner<6, 6>() = L.sigma.topLeftCorner(6, 6) + ux * Skk * ux.transpose();
+    M.block<6, 3>(0, 6) = -ux * Skk;
+    M.block<3, 6>(6, 0) = M.block<6, 3>(0, 6).transpose();
+    M.block<3, 3>(6, 6) = Skk;
+    (*ok)[i] = M.allFinite() ? 1 : 0;
   }
-  MatrixXd u = MatrixXd::Zero(L.sigma.rows(), 3);
-  for (const auto& [j, B] : omega_.links(k)) {
-    const int rj = L.local_row[j];
-    if (rj >= 0) u.noalias() += L.sigma.middleCols(rj, 3) * B.transpose();  // Omega_jk = B^T
-  }
-  Mat3 s = omega_.diagonal(k);
-  for (const auto& [j, B] : omega_.links(k)) {
-    const int rj = L.local_row[j];
-    if (rj >= 0) s.noalias() -= B * u.middleRows(rj, 3);
-  }
-  const Eigen::LLT<Mat3> llt(0.5 * (s + s.transpose()));
-  if (llt.info() != Eigen::Success) return false;
-  const Mat3 Skk = llt.solve(Mat3::Identity());
-  const Eigen::Matrix<double, 6, 3> ux = u.topRows(6);
-  M->topLeftCorner<6, 6>() = L.sigma.topLeftCorner(6, 6) + ux * Skk * ux.transpose();
-  M->block<6, 3>(0, 6) = -ux * Skk;
-  M->block<3, 6>(6, 0) = M->block<6, 3>(0, 6).transpose();
-  M->block<3, 3>(6, 6) = Skk;
-  return M->allFinite();
 }
 
 Status SeifStorage::doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const {
-  for (std::size_t i = 0; i < slots.size(); ++i)
-    if (!slotCovariance(slots[i], &(*out)[i])) return Status::kNotPositiveDefinite;
+  std::vector<char> ok;
+  slotCovariances(slots, out, &ok);
+  for (char o : ok)
+    if (!o) return Status::kNotPositiveDefinite;
   return Status::kOk;
 }
 
@@ -137,10 +152,14 @@ PoseMat SeifStorage::poseCovariance() const {
 }
 
 std::vector<Mat3> SeifStorage::landmarkCovariances() const {
+  std::vector<int> all(numLandmarks());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<Mat9> M(all.size());
+  std::vector<char> ok;
+  slotCovariances(all, &M, &ok);
   std::vector<Mat3> out(numLandmarks(), Mat3::Zero());
-  Mat9 M;
   for (int k = 0; k < numLandmarks(); ++k)
-    if (slotCovariance(k, &M)) out[k] = M.block<3, 3>(6, 6);
+    if (ok[k]) out[k] = M[k].block<3, 3>(6, 6);
   return out;
 }
 
@@ -247,13 +266,9 @@ void SeifStorage::recoverPassive(const std::vector<char>& solved, VectorXd* dx) 
   }
 }
 
-// Sparsification (Thrun et al. 12.4.3): m0 = the active landmarks beyond the
-// bound (least recently linked), m+ = the others, over L = [pose, m+, m0]
-// with the passive landmarks conditioned away:
-//   Omega~_LL = Omega_LL - T(m0) + T(x, m0) - T(x),
-//   T(S) = Omega_L,S (Omega_S,S)^-1 Omega_S,L,
-// which removes the pose-m0 links; xi is kept (the error mean is ~0 right
-// after the recovery).
+// Sparsification (sparsification.hpp): m0 = the active landmarks beyond the
+// bound (least recently linked), m+ = the others; removes the pose-m0 links;
+// xi is kept (the error mean is ~0 right after the recovery).
 void SeifStorage::sparsify() {
   const int bound = settings_.seif_max_active_landmarks;
   std::vector<int> A = omega_.active();
@@ -262,23 +277,10 @@ void SeifStorage::sparsify() {
     if (recency_[a] != recency_[b]) return recency_[a] > recency_[b];
     return a < b;
   });
-  const int P = poseDim(), n_keep = bound, n0 = static_cast<int>(A.size()) - bound;
   const MatrixXd Om = omega_.gather(A);
-  std::vector<int> x_idx(P), m0_idx(3 * n0), xm0_idx;
-  std::iota(x_idx.begin(), x_idx.end(), 0);
-  std::iota(m0_idx.begin(), m0_idx.end(), blockRow(P, n_keep));
-  xm0_idx = x_idx;
-  xm0_idx.insert(xm0_idx.end(), m0_idx.begin(), m0_idx.end());
-  auto T = [&](const std::vector<int>& S) {
-    const MatrixXd OS = Om(Eigen::all, S);
-    const MatrixXd SS = Om(S, S);
-    return MatrixXd(OS * SS.llt().solve(OS.transpose()));
-  };
-  MatrixXd New = Om - T(m0_idx) + T(xm0_idx) - T(x_idx);
-  New.block(0, blockRow(P, n_keep), P, 3 * n0).setZero();
-  New.block(blockRow(P, n_keep), 0, 3 * n0, P).setZero();
-  if (!New.allFinite()) return;  // keep the denser, valid Omega
-  omega_.scatter(A, New);
+  MatrixXd sparse;
+  if (!sparsifiedInformation(Om, poseDim(), 3 * bound, &sparse)) return;  // keep the denser, valid Omega
+  omega_.scatter(A, sparse);
 }
 
 // New landmarks (docs/DESIGN.md "SEIF"): m_i = g(x, z_i), dm_i = G_i dx +

@@ -71,8 +71,9 @@ class SeifStorage final : public CovarianceBackend {
     std::vector<int> local_row;  // per slot: its first row in sigma, or -1 (passive)
   };
   const LocalCovariance& local() const;
-  // Covariance of [dp, dtheta, dm_slot] (pose rows: the first 6).
-  bool slotCovariance(int slot, Mat9* M) const;
+  // Covariances of [dp, dtheta, dm_slot] (pose rows: the first 6) for the
+  // slots; ok[i] = 0 where one could not be formed (not PD, not finite).
+  void slotCovariances(const std::vector<int>& slots, std::vector<Mat9>* out, std::vector<char>* ok) const;
   void recoverPassive(const std::vector<char>& solved, Eigen::VectorXd* dx);
   void sparsify();
   void touched() { cache_.valid = false; }
