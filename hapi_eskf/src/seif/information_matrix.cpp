@@ -33,8 +33,9 @@ Eigen::MatrixXd InformationMatrix::gather(const std::vector<int>& slots) const {
       M.block(r, 0, 3, P) = xm_[k].transpose();
     }
     M.block<3, 3>(r, r) = mm_[k];
-    for (const auto& [j, B] : links_[k])
+    forEachLinkAmong(k, slots, [&](int j, const Mat3& B) {
       if (local[j] >= 0) M.block<3, 3>(r, local[j]) = B;
+    });
   }
   return M;
 }

@@ -106,10 +106,10 @@ void SeifStorage::slotCovariances(const std::vector<int>& slots, std::vector<Mat
     if (L.local_row[slots[i]] < 0) passive.push_back(i);
   MatrixXd Bd = MatrixXd::Zero(D, 3 * static_cast<Eigen::Index>(passive.size()));  // [Omega_Dk ...]
   for (std::size_t u = 0; u < passive.size(); ++u)
-    for (const auto& [j, B] : omega_.links(slots[passive[u]])) {
+    omega_.forEachLinkAmong(slots[passive[u]], omega_.active(), [&](int j, const Mat3& B) {
       const int rj = L.local_row[j];
       if (rj >= 0) Bd.block<3, 3>(rj, 3 * u) = B.transpose();  // Omega_jk = B^T
-    }
+    });
   const MatrixXd U = L.sigma * Bd;
   std::size_t u = 0;
   for (std::size_t i = 0; i < slots.size(); ++i) {

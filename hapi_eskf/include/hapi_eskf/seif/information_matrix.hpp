@@ -28,6 +28,23 @@ class InformationMatrix {
   const std::vector<int>& active() const { return active_; }
   bool isActive(int slot) const { return is_active_[slot] != 0; }
   const std::unordered_map<int, Mat3>& links(int slot) const { return links_[slot]; }
+  // f(j, Omega_slot,j) for the links of `slot` to the slots in `among` (in
+  // no particular order; `among` may hold `slot` itself, which has no
+  // link): by walking the slot's links, or by looking each of `among` up
+  // when that is the shorter list. A landmark seen with many others has
+  // hundreds of links, and each step of a walk is a cache miss.
+  template <typename F>
+  void forEachLinkAmong(int slot, const std::vector<int>& among, F&& f) const {
+    const auto& L = links_[slot];
+    if (L.size() <= among.size()) {
+      for (const auto& [j, B] : L) f(j, B);
+      return;
+    }
+    for (int j : among) {
+      const auto it = L.find(j);
+      if (it != L.end()) f(j, it->second);
+    }
+  }
   const Mat3& diagonal(int slot) const { return mm_[slot]; }
   const PoseMat& poseBlock() const { return xx_; }
   const Vec3& xiLandmark(int slot) const { return xi_m_[slot]; }
