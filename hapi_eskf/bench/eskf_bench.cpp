@@ -191,7 +191,6 @@ std::vector<E> parseList(const std::string& text, const char* flag) {
   return out;
 }
 
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -309,7 +308,7 @@ int main(int argc, char** argv) {
   std::printf("hapi_eskf_bench: L = %d visible (update), %d new + %d evicted per iteration, descriptors %d B\n",
               o.visible, o.fresh, o.fresh, Scenario::kDescLen);
   std::printf("stage times are medians over the measured iterations (after %d warm-up on CUDA, %d on CPU), in ms; "
-              "total = predict + association + update + removal + addition\n",
+              "total = predict + association + update + removal + addition + frameCompleted\n",
               o.warmup, o.cpu_warmup);
   if (o.frame_period_ms > 0)
     std::printf("frames start every %d ms (a late frame starts the next at once)\n", o.frame_period_ms);

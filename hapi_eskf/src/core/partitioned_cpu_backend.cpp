@@ -483,12 +483,8 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
   // Applies the pending correction to the rows [done, r1).
   void applyPendingRows(int r1) {
     if (!pending()) return;
-    const int r = std::min(r1, dim());
-    if (r > pend_done_) {
-      correctRows(Xp_, Psip_, pend_done_, r);
-      pend_done_ = r;
-    }
-    if (pend_done_ >= dim()) pend_left_ = 0;
+    const std::pair<int, int> rows = takePendingRows(r1);
+    correctRows(Xp_, Psip_, rows.first, rows.second);
   }
 
   // One share per update, equal in work (partition::nextStagedRow).
@@ -498,14 +494,21 @@ class PartitionedCpuBackend final : public CovarianceBackend, public Partitioned
     correctRows(Xp_, Psip_, rows.first, rows.second);
   }
 
-  // The rows [r0, r) of the next share, counted as applied (the caller
-  // applies them before anything reads them).
-  std::pair<int, int> takeShare() {
-    const int r0 = pend_done_, r = std::min(partition::nextStagedRow(pend_done_, dim(), pend_left_), dim());
-    if (pend_left_ > 1) --pend_left_;  // the last share ends at dim()
+  // The rows [done, min(r1, n)) of the pending correction, counted as
+  // applied (the caller applies them before anything reads them); nothing
+  // is pending once done reaches n.
+  std::pair<int, int> takePendingRows(int r1) {
+    const int r0 = pend_done_, r = std::min(r1, dim());
     pend_done_ = std::max(r0, r);
     if (pend_done_ >= dim()) pend_left_ = 0;
     return {r0, r};
+  }
+
+  // The rows of the next share (takePendingRows).
+  std::pair<int, int> takeShare() {
+    const int r1 = partition::nextStagedRow(pend_done_, dim(), pend_left_);
+    if (pend_left_ > 1) --pend_left_;  // the last share ends at dim()
+    return takePendingRows(r1);
   }
 
   // Waits for a background share (rethrowing what it threw).
