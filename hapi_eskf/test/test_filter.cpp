@@ -306,13 +306,15 @@ TEST(Eskf, PredictEntryPoints) {
   const Mat12 expect = F * C0 * F.transpose() + processNoise(0.5, s);
   EXPECT_LT((f.poseCovariance() - expect).cwiseAbs().maxCoeff(), 1e-15);
 
-  // Gyro: w is replaced by the measurement, its variance by sigma^2/dt (then damped).
+  // Gyro: w is replaced by the measurement, its variance by sigma^2/dt (then
+  // damped), sigma the inflated density (settings.hpp gyroProcessNoiseDensity).
   const Vec3 gyro(0.0, -0.3, 0.05);
   ASSERT_EQ(f.addImu(ImuSample{1.6, gyro, Vec3::Zero()}), Status::kOk);
   const double lam = std::pow(0.5, 0.1);
   EXPECT_LT((f.pose().w - lam * gyro).norm(), 1e-15);
   const Mat12 C = f.poseCovariance();
-  EXPECT_NEAR(C(kIdxW, kIdxW), lam * lam * 1e-4 / 0.1 + processNoise(0.1, s)(kIdxW, kIdxW), 1e-15);
+  const double sg = 0.01 * s.gyro_noise_inflation;
+  EXPECT_NEAR(C(kIdxW, kIdxW), lam * lam * sg * sg / 0.1 + processNoise(0.1, s)(kIdxW, kIdxW), 1e-14);
   EXPECT_NEAR(C(kIdxW, kIdxV), 0.0, 1e-18);  // the old w's correlations are gone
 }
 

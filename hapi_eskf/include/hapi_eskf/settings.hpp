@@ -92,6 +92,10 @@ struct EskfSettings {
   // range: every field against its table range, then the rules between
   // fields (max_new_landmarks and bootstrap_landmarks <= max_landmarks).
   std::string validate() const;
+
+  // The gyro white noise the prediction assumes [rad/s/sqrt(Hz)]: the
+  // sensor's density times the inflation (eskf_settings.def says why).
+  double gyroProcessNoiseDensity() const { return gyro_noise_density * gyro_noise_inflation; }
 };
 
 // Calls visit(const FieldInfo&, field) for every field of `s` in table order;

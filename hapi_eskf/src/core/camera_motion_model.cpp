@@ -78,7 +78,7 @@ class CameraMotionModel final : public MotionModel {
     PoseState y;
     if (use_gyro_ && imu != nullptr) {
       Mat12 F12, Q12;
-      gyroStep(toPose(x), extrinsic_.R_imu_cam.transpose() * imu->gyro, s_.gyro_noise_density, dt, s_, &y, &F12,
+      gyroStep(toPose(x), extrinsic_.R_imu_cam.transpose() * imu->gyro, s_.gyroProcessNoiseDensity(), dt, s_, &y, &F12,
                &Q12);
       *F = F12;
       *Q = Q12;

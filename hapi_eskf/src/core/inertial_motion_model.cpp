@@ -143,7 +143,7 @@ class InertialMotionModel final : public MotionModel {
     F->block<3, 3>(kIdxTheta, kIdxBg) = -Jr * dt;
 
     const double na2 = s_.accel_noise_density * s_.accel_noise_density;
-    const double ng2 = s_.gyro_noise_density * s_.gyro_noise_density;
+    const double ng2 = s_.gyroProcessNoiseDensity() * s_.gyroProcessNoiseDensity();
     *Q = PoseMat::Zero(kInertialDim, kInertialDim);
     Q->block<3, 3>(kIdxP, kIdxP) = I * (na2 * dt * dt * dt / 4.0);
     Q->block<3, 3>(kIdxP, kIdxV) = I * (na2 * dt * dt / 2.0);
