@@ -37,6 +37,43 @@ struct StereoPointResidual {
   Mat3 W_;
 };
 
+// A pose prior, r = W [p - p0; Log(q q0^-1)] with W^T W = G^-1, G the
+// pose's covariance in Ceres's tangent space (global rotation increment).
+// Used only for the covariances of a window: an old keyframe held fixed in
+// the solve stands for its own uncertainty there (docs/DESIGN.md "Graph
+// SLAM", covariances). Its residual is zero at the solution.
+struct PosePriorResidual {
+  PosePriorResidual(const Vec3& p0, const Eigen::Quaterniond& q0, const Mat6& G) : p0_(p0), q0_(q0) {
+    const Mat6 L = G.llt().matrixL();
+    W_ = L.triangularView<Eigen::Lower>().solve(Mat6::Identity());
+  }
+  template <typename T>
+  bool operator()(const T* pose, T* residual) const {
+    Eigen::Map<const Eigen::Matrix<T, 3, 1>> p(pose);
+    Eigen::Map<const Eigen::Quaternion<T>> q(pose + 3);
+    Eigen::Matrix<T, 6, 1> e;
+    e.template head<3>() = p - p0_.cast<T>();
+    Eigen::Quaternion<T> d = q * q0_.conjugate().cast<T>();
+    if (d.w() < T(0)) d.coeffs() = -d.coeffs();
+    e.template tail<3>() = T(2) * d.vec();  // Log for the small angles of a prior at its mean
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+    r = W_.cast<T>() * e;
+    return true;
+  }
+  Vec3 p0_;
+  Eigen::Quaterniond q0_;
+  Mat6 W_;
+};
+
+// [dp world, dtheta local] <-> Ceres's [dp, d global]: d = R dtheta.
+Mat6 localToGlobal(const Eigen::Quaterniond& q) {
+  Mat6 J = Mat6::Identity();
+  J.block<3, 3>(3, 3) = q.normalized().toRotationMatrix();
+  return J;
+}
+
+bool hasCovariance(const Mat6& C) { return C.allFinite() && C.diagonal().minCoeff() > 0.0; }
+
 ceres::LossFunction* makeLoss(const GraphSettings& s) {
   // Ceres's losses act on s = |r|^2 with scale a: Huber(a) is quadratic up
   // to |r| = a.
@@ -112,14 +149,36 @@ Status adjustBundle(const GraphSettings& settings, const BundleOptions& options,
   for (std::size_t k = 0; k < poses.size(); ++k)
     if (used[k] && !constant[k]) newest_free = static_cast<int>(k);
   std::unordered_map<uint64_t, Mat3> point_cov;
+  std::unordered_map<int, Mat6> keyframe_cov;
   if (options.covariances) {
+    // Constant keyframes with a covariance become priors of themselves. Their
+    // errors are correlated (they share the older map's drift) but the
+    // cross-covariances are not kept: covariance intersection with equal
+    // weights, i.e. each prior's covariance times their number, is the fusion
+    // that stays consistent whatever the correlations (Julier and Uhlmann
+    // 1997; docs/DESIGN.md "Graph SLAM", covariances).
+    int n_priors = 0;
+    for (std::size_t k = 0; k < poses.size(); ++k)
+      n_priors += used[k] && constant[k] && hasCovariance(map->keyframes[k].covariance);
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      const Mat6& C = map->keyframes[k].covariance;
+      if (!used[k] || !constant[k] || !hasCovariance(C)) continue;
+      const Mat6 J = localToGlobal(map->keyframes[k].q);
+      const Mat6 G = static_cast<double>(n_priors) * J * C * J.transpose();
+      if (G.llt().info() != Eigen::Success) continue;
+      problem.SetParameterBlockVariable(poses[k].data());
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7>(
+                                   new PosePriorResidual(map->keyframes[k].p, map->keyframes[k].q, 0.5 * (G + G.transpose()))),
+                               nullptr, poses[k].data());
+    }
     ceres::Covariance::Options copt;
     copt.num_threads = 1;
     copt.algorithm_type = ceres::SPARSE_QR;
     ceres::Covariance covariance(copt);
     std::vector<std::pair<const double*, const double*>> blocks;
     for (const auto& kv : points) blocks.emplace_back(kv.second.data(), kv.second.data());
-    if (newest_free >= 0) blocks.emplace_back(poses[newest_free].data(), poses[newest_free].data());
+    for (std::size_t k = 0; k < poses.size(); ++k)
+      if (used[k] && !constant[k]) blocks.emplace_back(poses[k].data(), poses[k].data());
     if (covariance.Compute(blocks, &problem)) {
       rep.covariance_ok = true;
       for (const auto& kv : points) {
@@ -127,15 +186,15 @@ Status adjustBundle(const GraphSettings& settings, const BundleOptions& options,
         covariance.GetCovarianceBlock(kv.second.data(), kv.second.data(), C.data());
         point_cov[kv.first] = 0.5 * (C + C.transpose());
       }
-      if (newest_free >= 0) {
+      for (std::size_t k = 0; k < poses.size(); ++k) {
+        if (!used[k] || constant[k]) continue;
         Eigen::Matrix<double, 6, 6, Eigen::RowMajor> G;
-        covariance.GetCovarianceBlockInTangentSpace(poses[newest_free].data(), poses[newest_free].data(), G.data());
-        const Eigen::Quaterniond q(poses[newest_free].tail<4>().data());
-        Mat6 J = Mat6::Identity();
-        J.block<3, 3>(3, 3) = q.normalized().toRotationMatrix().transpose();
-        const Mat6 C = J * G * J.transpose();
-        rep.newest_pose_covariance = 0.5 * (C + C.transpose());
+        covariance.GetCovarianceBlockInTangentSpace(poses[k].data(), poses[k].data(), G.data());
+        const Mat6 Jt = localToGlobal(Eigen::Quaterniond(poses[k].tail<4>().data())).transpose();
+        const Mat6 C = Jt * G * Jt.transpose();
+        keyframe_cov[static_cast<int>(k)] = 0.5 * (C + C.transpose());
       }
+      if (newest_free >= 0) rep.newest_pose_covariance = keyframe_cov.at(newest_free);
     }
   }
 
@@ -143,6 +202,8 @@ Status adjustBundle(const GraphSettings& settings, const BundleOptions& options,
     if (!used[k] || constant[k]) continue;
     map->keyframes[k].p = poses[k].head<3>();
     map->keyframes[k].q = Eigen::Quaterniond(poses[k].tail<4>().data()).normalized();
+    const auto it = keyframe_cov.find(static_cast<int>(k));
+    if (it != keyframe_cov.end()) map->keyframes[k].covariance = it->second;
   }
   for (const auto& kv : points) map->landmarks.at(kv.first).position = kv.second;
   for (const auto& kv : points) {

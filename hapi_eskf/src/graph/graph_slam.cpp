@@ -6,7 +6,9 @@
 //  * observations of non-keyframes are used for tracking only;
 //  * the window: the newest window_keyframes keyframes move, every landmark
 //    they observe moves, every other keyframe observing those landmarks is
-//    held fixed (no marginalisation prior), keyframe 0 always (gauge).
+//    held fixed in the solve (no marginalisation prior), keyframe 0 always
+//    (gauge); for the window's covariances the fixed keyframes stand for
+//    their own marginal covariances (bundle_adjustment.hpp).
 #include "hapi_eskf/graph/graph_slam.hpp"
 
 #include "hapi_eskf/graph/pose_tracker.hpp"
@@ -78,7 +80,11 @@ Status GraphSlam::processFrame(const AssociatedFrame& frame, GraphFrameReport* r
   if (rep.n_known >= settings_.tracking_min_landmarks) {
     Mat6 C;
     if (trackPose(points, predicted, settings_, &x, &C)) {
-      cov = C;
+      // C is the pose given the landmarks, each with its own error; what they
+      // share (the window's placement in the world) does not average away
+      // over them: the newest keyframe's marginal stands for it
+      // (docs/DESIGN.md "Graph SLAM", covariances).
+      cov = C + (map_.keyframes.empty() ? Mat6::Zero() : map_.keyframes.back().covariance);
       rep.tracked = true;
     }
   }
@@ -98,6 +104,7 @@ Status GraphSlam::processFrame(const AssociatedFrame& frame, GraphFrameReport* r
   }
   if (keyframe) {
     const int kf = map_.addKeyframe(frame.stamp, x.p, x.q);
+    if (kf > 0) map_.keyframes[kf].covariance = cov;  // keyframe 0 is the gauge: exact
     for (const AssociatedMeasurement& m : frame.measurements) {
       if (m.is_new) {
         // m = p + R z with the pose's and the measurement's covariance
@@ -170,6 +177,7 @@ WindowJob GraphSlam::makeWindowJob() const {
     if (it != local.end()) return it->second;
     const Keyframe& k = map_.keyframes[g];
     const int l = job.map.addKeyframe(k.stamp, k.p, k.q);
+    job.map.keyframes[l].covariance = k.covariance;
     job.constant.push_back(g < first_free);
     job.keyframe_index.push_back(g);
     local.emplace(g, l);
@@ -199,6 +207,7 @@ void GraphSlam::applyWindowResult(const WindowResult& r) {
     Keyframe& k = map_.keyframes[w.keyframe_index[l]];
     k.p = w.map.keyframes[l].p;
     k.q = w.map.keyframes[l].q;
+    k.covariance = w.map.keyframes[l].covariance;
   }
   for (const auto& kv : w.map.landmarks) {
     GraphLandmark& l = map_.landmarks.at(kv.first);

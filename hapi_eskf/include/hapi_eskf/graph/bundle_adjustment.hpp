@@ -19,7 +19,11 @@ namespace graph {
 struct BundleOptions {
   int max_iterations = 10;
   bool sparse = false;          // sparse Schur (large batch) instead of dense Schur (window)
-  bool covariances = false;     // landmark and newest free keyframe covariances from ceres::Covariance
+  // Landmark and free keyframe covariances from ceres::Covariance, with every
+  // constant keyframe that has a covariance acting as a prior of it (not as
+  // an exact pose): the window's marginals then carry the older map's
+  // uncertainty (docs/DESIGN.md "Graph SLAM", covariances).
+  bool covariances = false;
 };
 
 struct BundleReport {
@@ -32,7 +36,8 @@ struct BundleReport {
 };
 
 // Solves over map->observations; keyframe k is constant when constant[k].
-// Writes the solution (poses, landmark positions and covariances) back into
+// Writes the solution (poses, landmark positions and covariances, free
+// keyframes' covariances with options.covariances) back into
 // *map only when Ceres reports it usable. kInvalidArgument on a size
 // mismatch, kEmptyInput without observations.
 Status adjustBundle(const GraphSettings& settings, const BundleOptions& options, const std::vector<char>& constant,

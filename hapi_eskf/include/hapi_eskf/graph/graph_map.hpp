@@ -19,6 +19,10 @@ struct Keyframe {
   double stamp = 0.0;
   Vec3 p = Vec3::Zero();                                  // camera position in the world [m]
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  // camera -> world
+  // Marginal [dp world, dtheta local] (docs/DESIGN.md "Graph SLAM",
+  // covariances): the tracked frame's at creation, then each window solve's
+  // while the keyframe is free. Zero: exact (keyframe 0, the gauge).
+  Mat6 covariance = Mat6::Zero();
   std::vector<int> observations;                          // indices into GraphMap::observations
 };
 
