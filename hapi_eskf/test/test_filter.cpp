@@ -364,8 +364,19 @@ TEST(Association, RatioTestGateAndOneMeasurementPerLandmark) {
   EXPECT_EQ(a.n_conflicts, 1);
   EXPECT_FALSE(a.may_add[0]);
   EXPECT_FALSE(a.may_add[1]);
-  EXPECT_FALSE(a.may_add[2]);
+  EXPECT_TRUE(a.may_add[2]);  // 2 m from the landmark it resembles (d2 2e4 > copy_chi2): another point
   EXPECT_TRUE(a.may_add[3]);
+  {
+    // Nearer than copy_chi2 to the landmark it resembles, a gated-out
+    // measurement is taken for a copy and may not start a landmark.
+    EskfSettings wide = s;
+    wide.copy_chi2 = 1e5;
+    Association b;
+    ASSERT_EQ(associate(fr, pose, Mat6::Identity(), pos, *backend, wide, &b), Status::kOk);
+    EXPECT_EQ(b.slot[2], -1);
+    EXPECT_FALSE(b.may_add[2]);
+    EXPECT_TRUE(b.may_add[3]);
+  }
   // Landmark and measurement share the pose, whose terms cancel in S:
   // S = C_init + C_z = 2e-4 I, innovation 1e-3 along z.
   EXPECT_NEAR(a.d2[0], 1e-6 / 2e-4, 1e-9);

@@ -184,10 +184,11 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
   for (int i = 0; i < n; ++i) {
     const DescriptorMatch& m = matches[i];
     if (m.best_slot < 0 || m.best_distance > settings.max_hamming) continue;
-    // From here on the measurement resembles a pool landmark: even if it is
-    // not used (ambiguous, gated out, lost a conflict), adding it would put a
-    // second copy of that landmark into the pool, and copies make the ratio
-    // test fail for good, so every later observation would add yet another.
+    // From here on the measurement resembles a pool landmark: unless it turns
+    // out to be far from it (step 3, copy_chi2), adding it when it is not
+    // used (ambiguous, gated out, lost a conflict) would put a second copy of
+    // that landmark into the pool, and copies make the ratio test fail for
+    // good, so every later observation would add yet another.
     a.may_add[i] = 0;
     // Ratio test on distances: the best must be clearly better than the runner-up.
     if (m.second_slot >= 0 && !(m.best_distance < settings.match_ratio * m.second_distance)) continue;
@@ -233,16 +234,14 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
     }
   }
 
-  // 3. Mahalanobis gate with the marginal S_j of each candidate alone.
+  // 3. Mahalanobis gate with the marginal S_j of each candidate alone. A
+  // candidate rejected here or by RANSAC that is far from its landmark
+  // (beyond copy_chi2 in the same metric) is another point with a similar
+  // descriptor: it may start a landmark.
   std::vector<int> owner(K, -1);  // best measurement per landmark
   std::vector<double> owner_d2(K, 0.0);
   for (std::size_t c = 0; c < cand_meas.size(); ++c) {
     const int i = cand_meas[c], k = cand_slot[c];
-    if (!consistent[c]) {
-      ++a.n_gated_out;
-      ++a.n_ransac_out;
-      continue;
-    }
     const StereoMeasurement& z = frame.measurements[i];
     Mat36 Hp;
     Mat3 Hm;
@@ -254,10 +253,17 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
     const Vec3 nu = z.z - measure(pose, positions[k]);
     Eigen::LLT<Mat3> llt(S);
     if (llt.info() != Eigen::Success) {
-      ++a.n_gated_out;  // cannot be gated: treated as rejected
+      ++a.n_gated_out;  // cannot be gated: treated as rejected (and as a copy)
+      if (!consistent[c]) ++a.n_ransac_out;
       continue;
     }
     const double d2 = llt.matrixL().solve(nu).squaredNorm();
+    if (d2 > settings.copy_chi2) a.may_add[i] = 1;
+    if (!consistent[c]) {
+      ++a.n_gated_out;
+      ++a.n_ransac_out;
+      continue;
+    }
     if (!(d2 <= settings.gate_chi2)) {
       ++a.n_gated_out;
       if (a.fit_inliers > 0) ++a.n_fit_inliers_gated_out;
