@@ -364,13 +364,23 @@ TEST(Association, RatioTestGateAndOneMeasurementPerLandmark) {
   EXPECT_EQ(a.n_conflicts, 1);
   EXPECT_FALSE(a.may_add[0]);
   EXPECT_FALSE(a.may_add[1]);
-  EXPECT_TRUE(a.may_add[2]);  // 2 m from the landmark it resembles (d2 2e4 > copy_chi2): another point
+  EXPECT_FALSE(a.may_add[2]);  // copy_chi2 0: a measurement that resembles a landmark is a copy
   EXPECT_TRUE(a.may_add[3]);
+  {
+    // With copy_chi2, 2 m from the landmark it resembles (d2 2e4) is another point.
+    EskfSettings far = s;
+    far.copy_chi2 = 100.0;
+    Association b;
+    ASSERT_EQ(associate(fr, pose, Mat6::Identity(), pos, *backend, far, &b), Status::kOk);
+    EXPECT_EQ(b.slot[2], -1);
+    EXPECT_TRUE(b.may_add[2]);
+    EXPECT_TRUE(b.may_add[3]);
+  }
   {
     // Nearer than copy_chi2 to the landmark it resembles, a gated-out
     // measurement is taken for a copy and may not start a landmark.
     EskfSettings wide = s;
-    wide.copy_chi2 = 1e5;
+    wide.copy_chi2 = 1e5;  // nearer than this
     Association b;
     ASSERT_EQ(associate(fr, pose, Mat6::Identity(), pos, *backend, wide, &b), Status::kOk);
     EXPECT_EQ(b.slot[2], -1);

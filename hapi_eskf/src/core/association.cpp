@@ -258,7 +258,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
       continue;
     }
     const double d2 = llt.matrixL().solve(nu).squaredNorm();
-    if (d2 > settings.copy_chi2) a.may_add[i] = 1;
+    if (settings.copy_chi2 > 0.0 && d2 > settings.copy_chi2) a.may_add[i] = 1;
     if (!consistent[c]) {
       ++a.n_gated_out;
       ++a.n_ransac_out;
