@@ -1,7 +1,8 @@
 // Settings of the basic filter iteration that the unit tests pin down: the
 // defaults (eskf_settings.def, the tuned values of config/eskf.yaml) with the
 // tuned extras switched off, i.e. no RANSAC before gating, no bootstrap batch,
-// no relocalisation after a gap and C_z as the front end gives it. A test's
+// no relocalisation after a gap, C_z as the front end gives it and no
+// frame-shared vision error (the pose block is the motion model's). A test's
 // expected counts and bounds then depend on the basic iteration only; the
 // tests of an extra switch it on themselves.
 #pragma once
@@ -17,6 +18,9 @@ inline EskfSettings basicFilter() {
   s.bootstrap_landmarks = 0;
   s.relocalise_gap = 0.0;
   s.measurement_angular_sigma = 0.0;
+  s.frame_rotation_sigma = 0.0;
+  s.frame_optical_axis_sigma = 0.0;
+  s.frame_translation_sigma = 0.0;
   return s;
 }
 

@@ -292,7 +292,7 @@ int main(int argc, char** argv) {
       for (const auto& l : eskf.landmarks()) {
         if (before.count(l.id)) continue;
         for (const auto& m : frames[fi].measurements)
-          if ((initLandmark(eskf.pose(), m.z) - l.position).norm() < 1e-12) {
+          if ((initLandmark(eskf.frameCamera(), m.z) - l.position).norm() < 1e-12) {
             gt_point[l.id] = Rg * m.z + g0->p;
             gt_cov[l.id] = Rg * m.Cz * Rg.transpose();
             gt_z[l.id] = m.z;

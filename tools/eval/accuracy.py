@@ -219,7 +219,9 @@ def anees(results):
         a = np.mean([v[:n] for v in runs], axis=0)
         lo, hi = tm.chi2_bounds_of_mean(3, len(runs))
         out[key] = {"runs": len(runs), "frames": int(n), "mean": float(np.mean(a)), "band_95": [float(lo), float(hi)],
-                    "fraction_of_frames_inside": float(np.mean((a >= lo) & (a <= hi)))}
+                    "fraction_of_frames_inside": float(np.mean((a >= lo) & (a <= hi))),
+                    # the trend over the run: the mean of each fifth of the frames
+                    "mean_by_fifth": [float(np.mean(part)) for part in np.array_split(a, 5)]}
     return out
 
 

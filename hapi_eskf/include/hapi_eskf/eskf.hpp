@@ -15,6 +15,7 @@
 #pragma once
 
 #include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/frame_error_block.hpp"
 #include "hapi_eskf/landmark_book.hpp"
 #include "hapi_eskf/motion_model.hpp"
 #include "hapi_eskf/relocaliser.hpp"
@@ -32,7 +33,8 @@ namespace hapi_eskf {
 class Eskf final : public SlamBackend {
  public:
   // The backend's capacity must equal settings.max_landmarks and its pose
-  // block the motion model's (poseDim(settings.motion_model)). `extrinsic`
+  // block the filter's (filterPoseDim: the motion model's, plus the
+  // frame-error rows when modelled). `extrinsic`
   // is the camera in the IMU frame (models with IMU; setCameraExtrinsic()
   // changes it later).
   Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend,
@@ -80,11 +82,16 @@ class Eskf final : public SlamBackend {
 
   // The left camera: pose in the world, camera-frame velocities.
   PoseState pose() const override { return model_->camera(state_); }
+  // The camera as the last processed frame saw it, from which its new
+  // landmarks were placed (m = p + R z): pose() plus the estimate of the
+  // frame's shared vision error (frame_error_block.hpp); pose() when none is
+  // modelled or the frame had no update.
+  const PoseState& frameCamera() const { return frame_camera_; }
   // Its covariance in the camera-state layout [dp, dtheta, dv, dw] (12 x 12),
   // mapped from the state's (MotionModel::cameraStateJacobian).
   Mat12 cameraCovariance() const override;
   Mat6 cameraPoseCovariance() const override { return cameraCovariance().topLeftCorner<6, 6>(); }
-  // The pose block of the state covariance (P x P).
+  // The motion model's pose block of the state covariance (P x P).
   PoseMat poseCovariance() const;
   const NominalState& state() const { return state_; }
   const MotionModel& motionModel() const { return *model_; }
@@ -126,7 +133,9 @@ class Eskf final : public SlamBackend {
   EskfSettings settings_;
   std::unique_ptr<CovarianceBackend> backend_;
   std::unique_ptr<MotionModel> model_;
+  FrameErrorBlock frame_error_;
   NominalState state_;
+  PoseState frame_camera_;  // frameCamera()
   // The pose block's first estimates (docs/DESIGN.md "First-estimate
   // Jacobians"): the state as predicted, not corrected since; gravity as
   // first estimated.

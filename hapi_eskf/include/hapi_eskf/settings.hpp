@@ -96,6 +96,10 @@ struct EskfSettings {
   // The gyro white noise the prediction assumes [rad/s/sqrt(Hz)]: the
   // sensor's density times the inflation (eskf_settings.def says why).
   double gyroProcessNoiseDensity() const { return gyro_noise_density * gyro_noise_inflation; }
+  // A frame-shared vision error is modelled (frame_error_block.hpp).
+  bool frameErrorModelled() const {
+    return frame_rotation_sigma > 0.0 || frame_optical_axis_sigma > 0.0 || frame_translation_sigma > 0.0;
+  }
 };
 
 // Calls visit(const FieldInfo&, field) for every field of `s` in table order;

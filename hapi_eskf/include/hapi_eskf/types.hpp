@@ -23,9 +23,11 @@ using Mat9 = Eigen::Matrix<double, 9, 9>;
 // its block with [dp, dtheta], the only pose columns a measurement touches.
 //  * constant_velocity and gyro (camera state): [dp, dtheta, dv, dw], 12;
 //  * inertial (IMU body state): [dp, dtheta, dv, dbg, dba, dg], 18.
+// A modelled frame-shared vision error adds 6 spare rows after them
+// (frame_error_block.hpp): at most 18 + 6.
 constexpr int kCameraMotionDim = 12;
 constexpr int kInertialDim = 18;
-constexpr int kMaxPoseDim = 18;
+constexpr int kMaxPoseDim = 24;
 constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;    // camera state
 constexpr int kIdxBg = 9, kIdxBa = 12, kIdxG = 15;               // inertial state
 inline int landmarkRow(int slot, int pose_dim) { return pose_dim + 3 * slot; }

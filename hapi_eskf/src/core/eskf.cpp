@@ -43,29 +43,32 @@ Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> back
     : settings_(settings),
       backend_(std::move(backend)),
       model_(makeMotionModel(settings, extrinsic)),
+      frame_error_(model_->poseDim(), settings),
       scene_motion_(settings),
       relocaliser_(settings) {
   // Construction never throws; a mismatch is reported by reset()/processFrame().
   if (backend_ && settings_.validate().empty() && backend_->capacity() == settings_.max_landmarks &&
-      backend_->poseDim() == model_->poseDim())
+      backend_->poseDim() == frame_error_.filterDim())
     reset(PoseState(), 0.0);
 }
 
 Status Eskf::reset(const PoseState& initial, double stamp) {
   if (!backend_) return Status::kBackendUnavailable;
   if (!settings_.validate().empty()) return Status::kInvalidArgument;
-  if (backend_->capacity() != settings_.max_landmarks || backend_->poseDim() != model_->poseDim())
+  if (backend_->capacity() != settings_.max_landmarks || backend_->poseDim() != frame_error_.filterDim())
     return Status::kInvalidArgument;
   if (!std::isfinite(stamp) || !initial.p.allFinite() || !initial.q.coeffs().allFinite() || !initial.v.allFinite() ||
       !initial.w.allFinite())
     return Status::kNonFinite;
   if (initial.q.norm() < 1e-6) return Status::kInvalidArgument;
-  const Status st = backend_->reset(model_->initialCovariance());
+  const Status st = backend_->reset(frame_error_.covariance(model_->initialCovariance()));
   if (st != Status::kOk) return st;
+  frame_error_.discard();
   clearPendingPrediction();
   PoseState camera = initial;
   camera.q.normalize();
   state_ = model_->fromCamera(camera);
+  frame_camera_ = model_->camera(state_);
   restartFirstEstimates();
   time_ = stamp;
   relocaliser_.reset(stamp);
@@ -118,7 +121,7 @@ void Eskf::advanceFirstEstimates() {
 
 Status Eskf::flushPrediction() {
   if (!pending_steps_) return Status::kOk;
-  const Status st = backend_->predict(pending_F_, pending_Q_);
+  const Status st = backend_->predict(frame_error_.transition(pending_F_), frame_error_.noise(pending_Q_));
   if (st == Status::kOk) clearPendingPrediction();
   return st;
 }
@@ -164,8 +167,9 @@ Status Eskf::align() {
     return st;
   }
   if (st != Status::kOk) return st;
-  st = backend_->reset(start.C);
+  st = backend_->reset(frame_error_.covariance(start.C));
   if (st != Status::kOk) return st;
+  frame_error_.discard();
   clearPendingPrediction();
   state_ = start.x;
   restartFirstEstimates();
@@ -179,7 +183,7 @@ Status Eskf::align() {
 
 PoseMat Eskf::poseCovariance() const {
   if (!backend_) return PoseMat::Zero(model_->poseDim(), model_->poseDim());
-  const PoseMat C = backend_->poseCovariance();
+  const PoseMat C = frame_error_.modelBlock(backend_->poseCovariance());
   return pending_steps_ ? predictPoseCovariance(C, pending_F_, pending_Q_) : C;
 }
 
@@ -216,6 +220,8 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // defers to the time between frames starts here (frameCompleted).
   auto finish = [&](Status s) {
     if (backend_) {
+      const Status closed = frame_error_.close(backend_.get());
+      if (s == Status::kOk) s = closed;
       const Status deferred = backend_->frameCompleted();
       if (s == Status::kOk) s = deferred;
     }
@@ -259,6 +265,10 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     return finish(st);
   }
   const double previous_frame_stamp = relocaliser_.acceptFrame(frame.stamp);
+  // From here to finish() the first 6 pose columns are the pose this frame
+  // sees, with its shared vision error (frame_error_block.hpp).
+  st = frame_error_.open(backend_.get(), model_->cameraJacobian(state_));
+  if (st != Status::kOk) return finish(st);
 
   // --- association ---
   t0 = Clock::now();
@@ -280,7 +290,8 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     // confident value that disagrees frame after frame.
     if (v.disagreed && !v.device_still) {
       const int P = model_->poseDim();
-      st = backend_->predict(PoseMat::Identity(P, P), model_->motionStatesPrior());
+      st = backend_->predict(frame_error_.transition(PoseMat::Identity(P, P)),
+                             frame_error_.noise(model_->motionStatesPrior()));
       if (st != Status::kOk) return finish(st);
     }
   }
@@ -320,6 +331,10 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   const bool fej = settings_.first_estimate_jacobians;
   const PoseState camera_predicted = pose();
   const Mat6 J_predicted = model_->cameraJacobian(state_);
+  // The state the frame saw: new landmarks are placed from it (with a
+  // modelled frame error it differs from the corrected state by the
+  // estimate of that error).
+  NominalState frame_state = state_;
   if (!used_meas.empty()) {
     const PoseState& camera = camera_predicted;
     const Mat6& J = J_predicted;
@@ -339,9 +354,9 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     double nis = 0.0;
     st = backend_->update(blocks, &dx, &nis);
     if (st == Status::kOk) {
-      const int P = model_->poseDim();
-      model_->inject(&state_, dx.head(P));
-      book_.correct(dx, P);
+      model_->inject(&frame_state, frame_error_.framePoseCorrection(dx));
+      model_->inject(&state_, frame_error_.poseCorrection(dx));
+      book_.correct(dx, backend_->poseDim());
       for (int i : used_meas) {
         const int k = assoc.slot[i];
         used_slot[k] = 1;
@@ -380,12 +395,13 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
 
   // --- addition ---
   t0 = Clock::now();
-  const PoseState camera = pose();
+  frame_camera_ = model_->camera(frame_state);
+  const PoseState& camera = frame_camera_;
   if (n_add > 0) {
     // First estimates: the Jacobians at the predicted pose, which also
     // places the landmark's first estimate; the mean from the corrected one.
     const PoseState& camera_lin = fej ? camera_predicted : camera;
-    const Mat6 J = fej ? J_predicted : model_->cameraJacobian(state_);
+    const Mat6 J = fej ? J_predicted : model_->cameraJacobian(frame_state);
     std::vector<NewLandmarkBlock> blocks(n_add);
     for (int j = 0; j < n_add; ++j) {
       const int i = add_meas[j];

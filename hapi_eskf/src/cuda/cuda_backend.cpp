@@ -5,6 +5,7 @@
 #include "hapi_eskf/cuda/cuda_backend.hpp"
 
 #include "dense_cuda_backend.hpp"
+#include "hapi_eskf/frame_error_block.hpp"
 
 #include <string>
 
@@ -83,9 +84,11 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
     *err = "CUDA backend: capacity and descriptor length must be >= 0";
     return nullptr;
   }
-  if (pose_dim != kCameraMotionDim && pose_dim != kInertialDim) {
-    *err = "CUDA backend: pose block must have " + std::to_string(kCameraMotionDim) + " or " +
-           std::to_string(kInertialDim) + " rows, got " + std::to_string(pose_dim);
+  // The pose blocks of the motion models, with or without the frame-error rows.
+  if (pose_dim != kCameraMotionDim && pose_dim != kInertialDim && pose_dim != kInertialDim + kFrameErrorDim) {
+    *err = "CUDA backend: pose block must have " + std::to_string(kCameraMotionDim) + ", " +
+           std::to_string(kInertialDim) + " or " + std::to_string(kInertialDim + kFrameErrorDim) + " rows, got " +
+           std::to_string(pose_dim);
     return nullptr;
   }
   std::string info;

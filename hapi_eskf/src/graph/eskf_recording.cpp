@@ -56,8 +56,9 @@ Status EskfRecorder::processFrame(Eskf* eskf, const StereoFrame& frame, Iteratio
         ++matched;
       }
     } else {
-      // Started by this measurement: a new id at exactly m = p + R z.
-      const Vec3 x = initLandmark(pose, m.z);
+      // Started by this measurement: a new id at exactly m = p + R z, from
+      // the camera as the frame saw it.
+      const Vec3 x = initLandmark(eskf->frameCamera(), m.z);
       for (const LandmarkInfo& l : after)
         if (!seen_before.count(l.id) && (l.position - x).norm() <= 1e-9 * (1.0 + x.norm())) {
           id = l.id;

@@ -4,6 +4,7 @@
 // an error return leaves Omega and xi unchanged.
 #include "hapi_eskf/seif/seif_storage.hpp"
 
+#include "hapi_eskf/frame_error_block.hpp"
 #include "hapi_eskf/motion_model.hpp"
 #include "hapi_eskf/removal_plan.hpp"
 #include "hapi_eskf/seif/sparsification.hpp"
@@ -384,7 +385,7 @@ std::unique_ptr<CovarianceBackend> makeSeifStorage(const EskfSettings& s, int de
     if (error) *error = "descriptor_length must be >= 0";
     return nullptr;
   }
-  return std::make_unique<SeifStorage>(s.max_landmarks, descriptor_length, poseDim(s.motion_model), s);
+  return std::make_unique<SeifStorage>(s.max_landmarks, descriptor_length, filterPoseDim(poseDim(s.motion_model), s), s);
 }
 
 }  // namespace seif

@@ -3,6 +3,7 @@
 // removals), method by method, bad-input parity, and the FP32 stability check. Every case skips without a CUDA device.
 #include "backend_pair.hpp"
 
+#include "hapi_eskf/frame_error_block.hpp"
 #include "hapi_eskf/removal_plan.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -111,7 +112,9 @@ TEST_P(CudaBackendPoseBlock, EachMethodMatchesCpu) {
   EXPECT_EQ(og[2].best_distance, 1);
 }
 
-INSTANTIATE_TEST_SUITE_P(MotionModels, CudaBackendPoseBlock, testing::Values(kCameraMotionDim, kInertialDim));
+// The pose blocks of the motion models, and the inertial one with the frame-error rows.
+INSTANTIATE_TEST_SUITE_P(MotionModels, CudaBackendPoseBlock,
+                         testing::Values(kCameraMotionDim, kInertialDim, kInertialDim + kFrameErrorDim));
 
 TEST(CudaBackend, HammingTiesGoToTheLowestSlotLikeCpu) {
   HAPI_REQUIRE_CUDA_DEVICE();
