@@ -142,6 +142,17 @@ TEST(FrameErrorBlock, DisabledIsTheModelBlockAsIs) {
   EXPECT_FALSE(fe.isOpen());
 }
 
+TEST(FrameErrorBlock, ShippedForTheEskfNotForTheSeif) {
+  EskfSettings s;  // as shipped
+  EXPECT_TRUE(s.frameErrorModelled());
+  EXPECT_EQ(filterPoseDim(kInertialDim, s), kInertialDim + kFrameErrorDim);
+  // The SEIF's information-form motion update inverts the transition; the
+  // frame error's two transitions are singular.
+  s.backend_algorithm = BackendAlgorithm::kSeif;
+  EXPECT_FALSE(s.frameErrorModelled());
+  EXPECT_EQ(filterPoseDim(kInertialDim, s), kInertialDim);
+}
+
 struct FilterRun {
   std::vector<PoseState> poses;
   std::vector<Vec3> landmarks;

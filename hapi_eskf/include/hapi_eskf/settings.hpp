@@ -96,9 +96,12 @@ struct EskfSettings {
   // The gyro white noise the prediction assumes [rad/s/sqrt(Hz)]: the
   // sensor's density times the inflation (eskf_settings.def says why).
   double gyroProcessNoiseDensity() const { return gyro_noise_density * gyro_noise_inflation; }
-  // A frame-shared vision error is modelled (frame_error_block.hpp).
+  // A frame-shared vision error is modelled (frame_error_block.hpp). Not by
+  // the SEIF: its information-form motion update inverts the transition, and
+  // the frame error's transitions (a copy, a restore) are singular.
   bool frameErrorModelled() const {
-    return frame_rotation_sigma > 0.0 || frame_optical_axis_sigma > 0.0 || frame_translation_sigma > 0.0;
+    return backend_algorithm != BackendAlgorithm::kSeif &&
+           (frame_rotation_sigma > 0.0 || frame_optical_axis_sigma > 0.0 || frame_translation_sigma > 0.0);
   }
 };
 
