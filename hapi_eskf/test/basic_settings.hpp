@@ -24,5 +24,18 @@ inline EskfSettings basicFilter() {
   return s;
 }
 
+// The inertial filter of the analytic-trajectory runs (inertial_scenario.hpp):
+// a small pool and RANSAC with the IMU / vision agreement check.
+inline EskfSettings inertialTrajectoryFilter() {
+  EskfSettings s = basicFilter();
+  s.motion_model = MotionModelKind::kInertial;
+  s.max_landmarks = 300;
+  s.max_new_landmarks = 30;
+  s.max_update_landmarks = 60;
+  s.ransac_iterations = 200;
+  s.initial_sigma_accel_bias = 0.1;
+  return s;
+}
+
 }  // namespace testing_settings
 }  // namespace hapi_eskf

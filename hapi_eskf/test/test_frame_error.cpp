@@ -162,13 +162,7 @@ struct FilterRun {
 
 // The inertial filter on the analytic trajectory of test_inertial.cpp.
 FilterRun runInertial(double rotation_sigma, double translation_sigma, double duration) {
-  EskfSettings s = testing_settings::basicFilter();
-  s.motion_model = MotionModelKind::kInertial;
-  s.max_landmarks = 300;
-  s.max_new_landmarks = 30;
-  s.max_update_landmarks = 60;
-  s.ransac_iterations = 200;
-  s.initial_sigma_accel_bias = 0.1;
+  EskfSettings s = testing_settings::inertialTrajectoryFilter();
   s.frame_rotation_sigma = rotation_sigma;
   s.frame_optical_axis_sigma = rotation_sigma;
   s.frame_translation_sigma = translation_sigma;

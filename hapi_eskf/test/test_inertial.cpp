@@ -294,13 +294,8 @@ struct InertialRun {
 // The filter on the analytic trajectory: 200 Hz IMU, 10 Hz stereo frames.
 InertialRun runInertial(unsigned seed, double duration, const sim::ImuNoiseModel& noise,
                         bool first_estimate_jacobians = false) {
-  EskfSettings s = inertialSettings();
+  EskfSettings s = testing_settings::inertialTrajectoryFilter();
   s.first_estimate_jacobians = first_estimate_jacobians;
-  s.max_landmarks = 300;
-  s.max_new_landmarks = 30;
-  s.max_update_landmarks = 60;
-  s.ransac_iterations = 200;  // and the IMU / vision agreement check with it
-  s.initial_sigma_accel_bias = 0.1;
   std::mt19937 rng(seed);
   const sim::StereoRig rig;
   const sim::World world = sim::randomWorld(rng, 6000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
