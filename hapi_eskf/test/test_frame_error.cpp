@@ -48,6 +48,7 @@ Eigen::MatrixXd modelLayout(const Eigen::MatrixXd& C, int model_dim, int filter_
 TEST(FrameErrorBlock, UpdateEqualsTheJointUpdateWithTheSharedNoise) {
   std::mt19937 rng(5);
   EskfSettings s = testing_settings::basicFilter();
+  s.motion_model = MotionModelKind::kGyro;  // a model with the frame error (camera pose block, 12)
   s.frame_rotation_sigma = 0.02;
   s.frame_optical_axis_sigma = 0.03;
   s.frame_translation_sigma = 0.01;
@@ -142,12 +143,20 @@ TEST(FrameErrorBlock, DisabledIsTheModelBlockAsIs) {
   EXPECT_FALSE(fe.isOpen());
 }
 
-TEST(FrameErrorBlock, ShippedForTheEskfNotForTheSeif) {
+TEST(FrameErrorBlock, ShippedForTheImuModelsOfTheEskf) {
   EskfSettings s;  // as shipped
+  s.motion_model = MotionModelKind::kInertial;
   EXPECT_TRUE(s.frameErrorModelled());
   EXPECT_EQ(filterPoseDim(kInertialDim, s), kInertialDim + kFrameErrorDim);
+  s.motion_model = MotionModelKind::kGyro;
+  EXPECT_TRUE(s.frameErrorModelled());
+  // The constant-velocity model absorbs the shared errors as motion.
+  s.motion_model = MotionModelKind::kConstantVelocity;
+  EXPECT_FALSE(s.frameErrorModelled());
+  EXPECT_EQ(filterPoseDim(kCameraMotionDim, s), kCameraMotionDim);
   // The SEIF's information-form motion update inverts the transition; the
   // frame error's two transitions are singular.
+  s.motion_model = MotionModelKind::kInertial;
   s.backend_algorithm = BackendAlgorithm::kSeif;
   EXPECT_FALSE(s.frameErrorModelled());
   EXPECT_EQ(filterPoseDim(kInertialDim, s), kInertialDim);

@@ -96,11 +96,16 @@ struct EskfSettings {
   // The gyro white noise the prediction assumes [rad/s/sqrt(Hz)]: the
   // sensor's density times the inflation (eskf_settings.def says why).
   double gyroProcessNoiseDensity() const { return gyro_noise_density * gyro_noise_inflation; }
-  // A frame-shared vision error is modelled (frame_error_block.hpp). Not by
-  // the SEIF: its information-form motion update inverts the transition, and
-  // the frame error's transitions (a copy, a restore) are singular.
+  // A frame-shared vision error is modelled (frame_error_block.hpp): by the
+  // ES-EKF with a model that predicts from an IMU (gyro, inertial), whose
+  // tight frame-to-frame link would otherwise take the frames' shared errors
+  // as information. constant_velocity's angular-velocity random walk absorbs
+  // them (consistent without, conservative with it: docs/ACCURACY.md
+  // "Consistency"). Not the SEIF: its information-form motion update
+  // inverts the transition, and the frame error's (a copy, a restore) are
+  // singular.
   bool frameErrorModelled() const {
-    return backend_algorithm != BackendAlgorithm::kSeif &&
+    return backend_algorithm != BackendAlgorithm::kSeif && motion_model != MotionModelKind::kConstantVelocity &&
            (frame_rotation_sigma > 0.0 || frame_optical_axis_sigma > 0.0 || frame_translation_sigma > 0.0);
   }
 };
