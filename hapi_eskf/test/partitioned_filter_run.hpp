@@ -40,7 +40,7 @@ inline void runFilters(EskfSettings s, int frames, int dense_every, BackendKind 
   std::string err;
   auto pb = makeBackend(sp, 32, &err);
   ASSERT_TRUE(pb) << err;
-  Eskf dense(s, makeCpuBackend(s.max_landmarks, 32, filterPoseDim(kCameraMotionDim, s), s.cpu_linear_algebra));
+  Eskf dense(s, makeCpuBackend(s.max_landmarks, 32, filterPoseDim(s), s.cpu_linear_algebra));
   Eskf part(sp, std::move(pb));
   World world(1500);
   PoseState truth;

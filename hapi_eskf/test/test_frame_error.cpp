@@ -56,7 +56,7 @@ TEST(FrameErrorBlock, UpdateEqualsTheJointUpdateWithTheSharedNoise) {
   FrameErrorBlock fe(P, s);
   ASSERT_TRUE(fe.enabled());
   ASSERT_EQ(fe.filterDim(), P + kFrameErrorDim);
-  ASSERT_EQ(filterPoseDim(P, s), P + kFrameErrorDim);
+  ASSERT_EQ(filterPoseDim(s), P + kFrameErrorDim);
   auto backend = makeCpuBackend(10, 0, fe.filterDim());
   ASSERT_TRUE(backend);
   PoseMat C_pose = randomCovariance(P, 0.01, rng);
@@ -147,19 +147,19 @@ TEST(FrameErrorBlock, ShippedForTheImuModelsOfTheEskf) {
   EskfSettings s;  // as shipped
   s.motion_model = MotionModelKind::kInertial;
   EXPECT_TRUE(s.frameErrorModelled());
-  EXPECT_EQ(filterPoseDim(kInertialDim, s), kInertialDim + kFrameErrorDim);
+  EXPECT_EQ(filterPoseDim(s), kInertialDim + kFrameErrorDim);
   s.motion_model = MotionModelKind::kGyro;
   EXPECT_TRUE(s.frameErrorModelled());
   // The constant-velocity model absorbs the shared errors as motion.
   s.motion_model = MotionModelKind::kConstantVelocity;
   EXPECT_FALSE(s.frameErrorModelled());
-  EXPECT_EQ(filterPoseDim(kCameraMotionDim, s), kCameraMotionDim);
+  EXPECT_EQ(filterPoseDim(s), kCameraMotionDim);
   // The SEIF's information-form motion update inverts the transition; the
   // frame error's two transitions are singular.
   s.motion_model = MotionModelKind::kInertial;
   s.backend_algorithm = BackendAlgorithm::kSeif;
   EXPECT_FALSE(s.frameErrorModelled());
-  EXPECT_EQ(filterPoseDim(kInertialDim, s), kInertialDim);
+  EXPECT_EQ(filterPoseDim(s), kInertialDim);
 }
 
 struct FilterRun {
@@ -181,7 +181,7 @@ FilterRun runInertial(double rotation_sigma, double translation_sigma, double du
   const sim::InertialTrajectory traj;
   const sim::ImuNoiseModel noise;
   const CameraExtrinsic e = sim::forwardCamera();
-  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, filterPoseDim(kInertialDim, s)), e);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, filterPoseDim(s)), e);
   EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
   const Vec3 origin = sim::cameraOf(traj.at(0.0), e).p;
   FilterRun r;

@@ -127,7 +127,7 @@ TEST(GraphSlam, BatchRefinementOfEskfRunBeatsTheFilterMap) {
   EskfSettings s;
   s.max_landmarks = 300;
   s.measurement_angular_sigma = 0.0;  // the simulation has no re-detection noise
-  Eskf eskf(s, makeCpuBackend(s.max_landmarks, 32, filterPoseDim(kCameraMotionDim, s)));
+  Eskf eskf(s, makeCpuBackend(s.max_landmarks, 32, filterPoseDim(s)));
   ASSERT_EQ(eskf.reset(run.truth[0], 0.0), Status::kOk);
   graph::EskfRecorder recorder(graph::GraphSettings().keyframe_min_observations);
   for (const StereoFrame& f : run.frames) ASSERT_EQ(recorder.processFrame(&eskf, f), Status::kOk);

@@ -45,7 +45,7 @@ TEST_P(PosePropagatorModels, EqualsTheFilterAfterTheSameImuSamples) {
   CameraExtrinsic e;
   e.R_imu_cam = Eigen::AngleAxisd(-M_PI / 2, Vec3::UnitX()).toRotationMatrix();
   e.p_imu_cam = Vec3(0.02, -0.01, 0.03);
-  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::filterPoseDim(hapi_eskf::poseDim(s.motion_model), s)), e);
+  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::filterPoseDim(s)), e);
   PoseState x0;
   x0.p = Vec3(0.1, -0.2, 0.3);
   x0.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()));
@@ -91,7 +91,7 @@ TEST(PosePropagator, RejectsWhatTheFilterRejects) {
   PosePropagator prop(s);
   EXPECT_FALSE(prop.valid());
   EXPECT_EQ(prop.step(ImuSample{1.0, Vec3::Zero(), Vec3::Zero()}), Status::kNotInitialised);
-  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::filterPoseDim(hapi_eskf::kCameraMotionDim, s)));
+  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::filterPoseDim(s)));
   ASSERT_EQ(eskf.reset(PoseState(), 1.0), Status::kOk);
   prop.rebase(eskf);
   const PoseMat C = prop.covariance();
@@ -112,7 +112,7 @@ TEST(PosePropagator, RejectsWhatTheFilterRejects) {
 TEST(PosePropagator, FollowsTheSurfaceAfterAFrameWithSceneMotion) {
   EskfSettings s;
   s.motion_model = MotionModelKind::kGyro;
-  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::filterPoseDim(hapi_eskf::kCameraMotionDim, s)));
+  Eskf eskf(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::filterPoseDim(s)));
   PoseState a, b;
   a.p = Vec3(0.1, 0.2, 0.3);
   a.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Vec3(0, 1, 1).normalized()));

@@ -33,16 +33,16 @@ namespace hapi_eskf {
 
 constexpr int kFrameErrorDim = 6;
 
-// The backend's pose block for a model block of model_dim rows: model_dim,
-// plus kFrameErrorDim spare rows when the settings model a frame error.
-int filterPoseDim(int model_dim, const EskfSettings& s);
+// The backend's pose block for the settings: the motion model's
+// (poseDim(s.motion_model)), plus kFrameErrorDim spare rows when the
+// settings model a frame error.
+int filterPoseDim(const EskfSettings& s);
 
 class FrameErrorBlock {
  public:
   FrameErrorBlock(int model_dim, const EskfSettings& s);
 
   bool enabled() const { return enabled_; }
-  int modelDim() const { return model_dim_; }
   int filterDim() const { return enabled_ ? model_dim_ + kFrameErrorDim : model_dim_; }
 
   // A model-sized transition or noise (F, Q) or covariance, embedded in the
@@ -74,6 +74,10 @@ class FrameErrorBlock {
   Eigen::VectorXd framePoseCorrection(const Eigen::VectorXd& dx) const { return dx.head(model_dim_); }
 
  private:
+  // M (model-sized) in the top-left corner, `spare_diagonal` times the
+  // identity on the spare rows.
+  PoseMat embed(const PoseMat& M, double spare_diagonal) const;
+
   int model_dim_;
   bool enabled_;
   Mat6 sigma_camera_ = Mat6::Zero();

@@ -240,8 +240,19 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
   // descriptor: it may start a landmark.
   std::vector<int> owner(K, -1);  // best measurement per landmark
   std::vector<double> owner_d2(K, 0.0);
+  const bool tell_copies = settings.copy_chi2 > 0.0;
+  auto rejectedByRansac = [&a] {
+    ++a.n_gated_out;
+    ++a.n_ransac_out;
+  };
   for (std::size_t c = 0; c < cand_meas.size(); ++c) {
     const int i = cand_meas[c], k = cand_slot[c];
+    // Rejected by RANSAC: its S is needed only to tell a copy from another
+    // point.
+    if (!consistent[c] && !tell_copies) {
+      rejectedByRansac();
+      continue;
+    }
     const StereoMeasurement& z = frame.measurements[i];
     Mat36 Hp;
     Mat3 Hm;
@@ -253,15 +264,17 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
     const Vec3 nu = z.z - measure(pose, positions[k]);
     Eigen::LLT<Mat3> llt(S);
     if (llt.info() != Eigen::Success) {
-      ++a.n_gated_out;  // cannot be gated: treated as rejected (and as a copy)
-      if (!consistent[c]) ++a.n_ransac_out;
+      // Cannot be gated: treated as rejected (and as a copy).
+      if (!consistent[c])
+        rejectedByRansac();
+      else
+        ++a.n_gated_out;
       continue;
     }
     const double d2 = llt.matrixL().solve(nu).squaredNorm();
-    if (settings.copy_chi2 > 0.0 && d2 > settings.copy_chi2) a.may_add[i] = 1;
+    if (tell_copies && d2 > settings.copy_chi2) a.may_add[i] = 1;
     if (!consistent[c]) {
-      ++a.n_gated_out;
-      ++a.n_ransac_out;
+      rejectedByRansac();
       continue;
     }
     if (!(d2 <= settings.gate_chi2)) {

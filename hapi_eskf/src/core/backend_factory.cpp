@@ -27,7 +27,7 @@ bool cudaBackendAvailable(int device, std::string* why) {
 
 bool cudaPoolFits(const EskfSettings& s, int descriptor_length, std::string* why) {
 #ifdef HAPI_ESKF_WITH_CUDA
-  return cuda::poolFits(s.max_landmarks, descriptor_length, filterPoseDim(poseDim(s.motion_model), s), s, why);
+  return cuda::poolFits(s.max_landmarks, descriptor_length, filterPoseDim(s), s, why);
 #else
   return cudaBackendAvailable(s.cuda_device, why);
 #endif
@@ -50,16 +50,16 @@ std::unique_ptr<CovarianceBackend> makeBackend(const EskfSettings& s, int descri
     }
     if (s.cpu_linear_algebra == CpuLinearAlgebra::kBlas) cpu_la::setBlasThreads(s.cpu_blas_threads);
     if (s.covariance_update == CovarianceUpdate::kPartitioned)
-      return makePartitionedCpuBackend(s.max_landmarks, descriptor_length, filterPoseDim(poseDim(s.motion_model), s),
+      return makePartitionedCpuBackend(s.max_landmarks, descriptor_length, filterPoseDim(s),
                                        s.cpu_linear_algebra, s.partition_max_active, s.partition_flush_shares,
                                        s.partition_flush_background);
-    return makeCpuBackend(s.max_landmarks, descriptor_length, filterPoseDim(poseDim(s.motion_model), s), s.cpu_linear_algebra);
+    return makeCpuBackend(s.max_landmarks, descriptor_length, filterPoseDim(s), s.cpu_linear_algebra);
   }
 #ifdef HAPI_ESKF_WITH_CUDA
   std::string err;
   auto b = s.covariance_update == CovarianceUpdate::kPartitioned
-               ? cuda::makePartitionedCudaBackend(s.max_landmarks, descriptor_length, filterPoseDim(poseDim(s.motion_model), s), s, &err)
-               : cuda::makeCudaBackend(s.max_landmarks, descriptor_length, filterPoseDim(poseDim(s.motion_model), s), s, &err);
+               ? cuda::makePartitionedCudaBackend(s.max_landmarks, descriptor_length, filterPoseDim(s), s, &err)
+               : cuda::makeCudaBackend(s.max_landmarks, descriptor_length, filterPoseDim(s), s, &err);
   if (!b && error) *error = err.empty() ? std::string("cuda backend creation failed") : err;
   return b;
 #else

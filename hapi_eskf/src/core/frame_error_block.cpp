@@ -1,9 +1,12 @@
 // The frame-shared vision error's transitions (frame_error_block.hpp).
 #include "hapi_eskf/frame_error_block.hpp"
 
+#include "hapi_eskf/motion_model.hpp"
+
 namespace hapi_eskf {
 
-int filterPoseDim(int model_dim, const EskfSettings& s) {
+int filterPoseDim(const EskfSettings& s) {
+  const int model_dim = poseDim(s.motion_model);
   return s.frameErrorModelled() ? model_dim + kFrameErrorDim : model_dim;
 }
 
@@ -13,26 +16,16 @@ FrameErrorBlock::FrameErrorBlock(int model_dim, const EskfSettings& s)
   sigma_camera_.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sz * sz;
 }
 
-PoseMat FrameErrorBlock::transition(const PoseMat& F) const {
-  if (!enabled_) return F;
-  PoseMat out = PoseMat::Identity(filterDim(), filterDim());
-  out.topLeftCorner(model_dim_, model_dim_) = F;
+PoseMat FrameErrorBlock::embed(const PoseMat& M, double spare_diagonal) const {
+  if (!enabled_) return M;
+  PoseMat out = spare_diagonal * PoseMat::Identity(filterDim(), filterDim());
+  out.topLeftCorner(model_dim_, model_dim_) = M;
   return out;
 }
 
-PoseMat FrameErrorBlock::noise(const PoseMat& Q) const {
-  if (!enabled_) return Q;
-  PoseMat out = PoseMat::Zero(filterDim(), filterDim());
-  out.topLeftCorner(model_dim_, model_dim_) = Q;
-  return out;
-}
-
-PoseMat FrameErrorBlock::covariance(const PoseMat& C) const {
-  if (!enabled_) return C;
-  PoseMat out = PoseMat::Identity(filterDim(), filterDim());
-  out.topLeftCorner(model_dim_, model_dim_) = C;
-  return out;
-}
+PoseMat FrameErrorBlock::transition(const PoseMat& F) const { return embed(F, 1.0); }
+PoseMat FrameErrorBlock::noise(const PoseMat& Q) const { return embed(Q, 0.0); }
+PoseMat FrameErrorBlock::covariance(const PoseMat& C) const { return embed(C, 1.0); }
 
 Mat6 FrameErrorBlock::stateCovariance(const Mat6& camera_jacobian) const {
   const Mat6 J_inv = camera_jacobian.inverse();

@@ -385,7 +385,7 @@ std::unique_ptr<CovarianceBackend> makeSeifStorage(const EskfSettings& s, int de
     if (error) *error = "descriptor_length must be >= 0";
     return nullptr;
   }
-  return std::make_unique<SeifStorage>(s.max_landmarks, descriptor_length, filterPoseDim(poseDim(s.motion_model), s), s);
+  return std::make_unique<SeifStorage>(s.max_landmarks, descriptor_length, filterPoseDim(s), s);
 }
 
 }  // namespace seif
