@@ -10,7 +10,10 @@ back end):
     last_seen_step after step 350);
   * pool 1000, 50 additions per step: the pool turns over every ~40 steps,
     so no frame after step 300 re-observes a landmark of the first 100 steps
-    and none of the first 50 steps is left in the final map.
+    and none of the first 50 steps is left in the final map;
+  * the same with full_pool_keep_observations=10 (landmark_book.hpp): the
+    often-observed landmarks of the first 50 steps stay in the pool (over
+    400 of them), and a frame after step 300 re-observes one.
 Also: every step has a non-negative background time (settle()), and the
 harness (tools/eval/compare_backends.py) gives the synthetic orbit, whose
 truth is on its frames' clock, no truth offset whatever --truth-offset says.
@@ -26,10 +29,10 @@ import tempfile
 FRAMES = 400
 
 
-def run(tool, out, label, additions):
+def run(tool, out, label, additions, extra=()):
     subprocess.run([tool, "--synthetic-orbit", "--algorithm", "fastslam2", "--out", out, "--label", label,
                     "--frames", str(FRAMES), "max_landmarks=1000", "max_new_landmarks=%d" % additions,
-                    "fastslam_num_particles=10"], check=True, stdout=subprocess.DEVNULL)
+                    "fastslam_num_particles=10"] + list(extra), check=True, stdout=subprocess.DEVNULL)
     with open(os.path.join(out, label + "_steps.csv")) as f:
         steps = list(csv.DictReader(f))
     with open(os.path.join(out, label + "_landmarks.csv")) as f:
@@ -73,6 +76,15 @@ def main():
                             "100 steps (oldest seen: %s)" % (min(late) if late else None))
         if any(int(l["first_step"]) < 50 for l in landmarks):
             failures.append("50 additions per step: landmarks of steps 0-49 still in the final map")
+        steps, landmarks = run(tool, out, "kept", 50, ["full_pool_keep_observations=10"])
+        kept = sum(1 for l in landmarks if int(l["first_step"]) < 50)
+        if kept < 400:
+            failures.append("50 additions per step, keeping the often observed: only %d landmarks of steps 0-49 "
+                            "in the final map (expected over 400)" % kept)
+        late = [int(s["oldest_seen_step"]) for s in steps if int(s["step"]) >= 300]
+        if not [o for o in late if 0 <= o < 50]:
+            failures.append("50 additions per step, keeping the often observed: no frame after step 300 "
+                            "re-observed a landmark of steps 0-49 (oldest seen: %s)" % (min(late) if late else None))
     for f in failures:
         print("FAIL: " + f)
     print("loop-closure figures: %s" % ("FAILED" if failures else "ok"))

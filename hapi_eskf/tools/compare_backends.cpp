@@ -6,7 +6,7 @@
 // table and the plots (docs/BACKENDS.md).
 //
 //   compare_backends STREAM.txt|--synthetic-orbit[=SEED,...] --algorithm eskf|seif|graph|fastslam2 --out DIR [--label NAME]
-//                    [--frames N] [--truth-offset S] [key=value ...]
+//                    [--frames N] [--truth-offset S] [--refine] [key=value ...]
 //
 // --truth-offset: t_truth = t_frame + S (the simulator's truth is on the IMU
 // clock: the bag's /ground_truth/calibration time_offset_s).
@@ -29,6 +29,14 @@
 // back to landmarks of the start it drops to near 0. Per landmark:
 // first_step and last_seen_step.
 //
+// --refine (eskf and graph, built with Ceres): after the run, the full batch
+// refinement (docs/DESIGN.md "Graph SLAM", batch) of the graph's own
+// snapshot, or of the ES-EKF's run recorded as a graph (eskf_recording.hpp),
+// scored before and after on the same frames and landmarks: position and
+// rotation MAE over every recorded frame, map MAE and NEES over every
+// landmark of the graph whose truth is known (summary keys refine_*). These
+// are after-the-fact figures (a smoother's), not the per-step ones above.
+//
 // Background work (graph's window solve) is waited for after every frame
 // (SlamBackend::settle()), so the figures are those of a back end whose
 // solver keeps up with the frames and do not depend on the machine's speed;
@@ -38,6 +46,14 @@
 #include "hapi_eskf/so3.hpp"
 #include "landmark_stream.hpp"
 #include "stream_source.hpp"
+
+#ifdef HAPI_ESKF_WITH_GRAPH
+#include "hapi_eskf/associating_backend.hpp"
+#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/graph/batch_refinement.hpp"
+#include "hapi_eskf/graph/eskf_recording.hpp"
+#include "hapi_eskf/graph/graph_slam.hpp"
+#endif
 
 #include <hapi_nodelet_kit/sample_quantiles.hpp>
 
@@ -49,6 +65,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -104,12 +121,63 @@ double mean(const std::vector<double>& v) {
   return n ? s / n : std::nan("");
 }
 
+#ifdef HAPI_ESKF_WITH_GRAPH
+// A graph's trajectory (every recorded frame, else the keyframes) and map
+// against the truth (landmarks without a known truth are skipped).
+struct GraphScore {
+  double pos_mae = 0, rot_mae = 0, map_mae = 0, map_nees = 0;
+  std::size_t frames = 0, landmarks = 0;
+};
+
+GraphScore scoreGraph(const graph::GraphMap& g, const std::vector<tools::TruePose>& truth, const Anchor& anchor,
+                      double truth_offset, const std::map<uint64_t, Vec3>& truth_of) {
+  std::vector<PoseState> poses;
+  std::vector<double> stamps;
+  if (g.frames.empty()) {
+    for (const graph::Keyframe& k : g.keyframes) {
+      PoseState x;
+      x.p = k.p;
+      x.q = k.q;
+      poses.push_back(x);
+      stamps.push_back(k.stamp);
+    }
+  } else {
+    for (const graph::FramePose& f : g.frames) {
+      poses.push_back(g.framePose(f));
+      stamps.push_back(f.stamp);
+    }
+  }
+  std::vector<double> ep, er, em, nm;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const tools::TruePose t = truthAt(truth, stamps[i] + truth_offset);
+    ep.push_back((anchor.toFilter(t.p) - poses[i].p).norm());
+    er.push_back(logSO3(poses[i].q.toRotationMatrix().transpose() * anchor.R.transpose() * t.q.toRotationMatrix())
+                     .norm());
+  }
+  for (const auto& kv : g.landmarks) {
+    const auto it = truth_of.find(kv.first);
+    if (it == truth_of.end()) continue;
+    const Vec3 e = kv.second.position - it->second;
+    em.push_back(e.norm());
+    nm.push_back(nees(e, kv.second.covariance));
+  }
+  GraphScore s;
+  s.pos_mae = mean(ep);
+  s.rot_mae = mean(er);
+  s.map_mae = mean(em);
+  s.map_nees = mean(nm);
+  s.frames = poses.size();
+  s.landmarks = em.size();
+  return s;
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string usage = std::string("usage: compare_backends ") + tools::kStreamSourceUsage +
                             " --algorithm eskf|seif|graph|fastslam2 --out DIR [--label NAME] "
-                            "[--frames N] [--truth-offset S] [key=value ...]\n";
+                            "[--frames N] [--truth-offset S] [--refine] [key=value ...]\n";
   if (argc < 2 || std::string(argv[1]) == "--help") {
     std::cerr << usage;
     return argc < 2 ? 1 : 0;
@@ -118,8 +186,10 @@ int main(int argc, char** argv) {
   std::string out_dir, label;
   int max_frames = -1;
   double truth_offset = 0.0;
+  bool refine = false;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--refine") { refine = true; continue; }
     if (a == "--out" && i + 1 < argc) { out_dir = argv[++i]; continue; }
     if (a == "--label" && i + 1 < argc) { label = argv[++i]; continue; }
     if (a == "--frames" && i + 1 < argc) { max_frames = std::stoi(argv[++i]); continue; }
@@ -158,6 +228,27 @@ int main(int argc, char** argv) {
   }
   const double t0 = stream.frames[0].stamp;
   if (backend->reset(PoseState(), t0) != Status::kOk) { std::cerr << "reset failed\n"; return 1; }
+#ifdef HAPI_ESKF_WITH_GRAPH
+  // --refine: the ES-EKF's run is recorded as a graph; Graph SLAM has its own.
+  // (The SEIF runs on the ES-EKF's host logic: the algorithm decides.)
+  Eskf* const eskf =
+      refine && s.backend_algorithm == BackendAlgorithm::kEskf ? dynamic_cast<Eskf*>(backend.get()) : nullptr;
+  std::unique_ptr<graph::EskfRecorder> recorder;
+  if (eskf) recorder = std::make_unique<graph::EskfRecorder>(s.graph_keyframe_min_observations);
+  const graph::GraphSlam* graph_slam = nullptr;
+  if (refine)
+    if (const auto* a = dynamic_cast<const AssociatingBackend*>(backend.get()))
+      graph_slam = dynamic_cast<const graph::GraphSlam*>(&a->core());
+  if (refine && !eskf && !graph_slam) {
+    std::cerr << "--refine: only eskf and graph have a graph to refine\n";
+    return 1;
+  }
+#else
+  if (refine) {
+    std::cerr << "--refine: Graph SLAM is not built here (needs Ceres, libceres-dev)\n";
+    return 1;
+  }
+#endif
   Anchor anchor;
   {
     const tools::TruePose g0 = truthAt(stream.truth, t0 + truth_offset);
@@ -173,6 +264,12 @@ int main(int argc, char** argv) {
   std::map<uint64_t, Vec3> truth_of;  // landmark id -> true point (filter world)
   std::map<uint64_t, int> first_step, last_step;  // landmark id -> step that created / last observed it
   std::vector<double> pos_err, rot_err, nees_pos, nees_rot, map_mae, map_nees, total_ms;
+  const auto processFrame = [&](const StereoFrame& f, IterationReport* rep) {
+#ifdef HAPI_ESKF_WITH_GRAPH
+    if (recorder) return recorder->processFrame(eskf, f, rep);
+#endif
+    return backend->processFrame(f, rep);
+  };
   std::size_t next_imu = 0;
   int n_errors = 0;
   const int n_frames = max_frames > 0 ? std::min<int>(max_frames, stream.frames.size()) : stream.frames.size();
@@ -182,7 +279,7 @@ int main(int argc, char** argv) {
       for (; next_imu < imu.size() && imu[next_imu].stamp <= f.stamp; ++next_imu)
         if (imu[next_imu].stamp > backend->time()) backend->addImu(imu[next_imu]);
     IterationReport rep;
-    Status st = f.measurements.empty() ? backend->predictTo(f.stamp) : backend->processFrame(f, &rep);
+    Status st = f.measurements.empty() ? backend->predictTo(f.stamp) : processFrame(f, &rep);
     if (st != Status::kOk) ++n_errors;
     const auto settle_start = std::chrono::steady_clock::now();
     backend->settle();
@@ -255,6 +352,34 @@ int main(int argc, char** argv) {
                mean(map_nees));
   std::fprintf(sum, "final_map_mae_m %.9g\nfinal_map_nees %.6g\nfinal_map_n %zu\n", mean(final_err), mean(final_nees),
                final_err.size());
+#ifdef HAPI_ESKF_WITH_GRAPH
+  if (refine) {
+    graph::GraphMap g = recorder ? recorder->graph() : graph_slam->snapshot();
+    const GraphScore before = scoreGraph(g, stream.truth, anchor, truth_offset, truth_of);
+    graph::BundleReport rep;
+    const auto start = std::chrono::steady_clock::now();
+    const Status st = graph::refineBatch(graph::graphSettings(s), &g, &rep);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (st != Status::kOk || !rep.usable) {
+      std::cerr << "refinement failed: " << toString(st) << "\n";
+      return 1;
+    }
+    const GraphScore after = scoreGraph(g, stream.truth, anchor, truth_offset, truth_of);
+    std::fprintf(sum, "refine_frames %zu\nrefine_landmarks %zu\nrefine_keyframes %zu\nrefine_iterations %d\n",
+                 after.frames, after.landmarks, g.keyframes.size(), rep.iterations);
+    std::fprintf(sum, "refine_s %.3f\nrefine_cost_before %.6g\nrefine_cost_after %.6g\n", seconds, rep.initial_cost,
+                 rep.final_cost);
+    for (const auto& kv : {std::make_pair("before", before), std::make_pair("after", after)})
+      std::fprintf(sum, "refine_%s_pos_m %.9g\nrefine_%s_rot_rad %.9g\nrefine_%s_map_m %.9g\nrefine_%s_map_nees %.6g\n",
+                   kv.first, kv.second.pos_mae, kv.first, kv.second.rot_mae, kv.first, kv.second.map_mae, kv.first,
+                   kv.second.map_nees);
+    std::printf("%s batch refinement (%zu frames, %zu landmarks, %.1f s): position %.2f -> %.2f mm, rotation %.4f -> "
+                "%.4f rad, map %.2f -> %.2f mm, map NEES %.2f -> %.2f\n",
+                label.c_str(), after.frames, after.landmarks, seconds, 1e3 * before.pos_mae, 1e3 * after.pos_mae,
+                before.rot_mae, after.rot_mae, 1e3 * before.map_mae, 1e3 * after.map_mae, before.map_nees,
+                after.map_nees);
+  }
+#endif
   const auto ms = [&](double q) { return hapi_nodelet_kit::quantileRoundedPosition(total_ms, q, std::nan("")); };
   std::fprintf(sum, "ms_mean %.4f\nms_p50 %.4f\nms_p99 %.4f\nms_max %.4f\n", mean(total_ms), ms(0.5), ms(0.99),
                ms(1.0));

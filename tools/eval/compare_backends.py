@@ -4,7 +4,7 @@ recorded landmark streams, Kock 2021's metrics per time step and per landmark,
 a Markdown table and PNG plots.
 
     compare_backends.py [--streams S1,S2,...] [--variants eskf,seif,...] [--set KEY=VALUE ...]
-                        [--out DIR] [--frames N] [--truth-offset S] [--plot-only]
+                        [--out DIR] [--frames N] [--truth-offset S] [--refine] [--plot-only]
 
 A stream is a file written by tools/eval/accuracy.py (.data/sim/*_stream.txt),
 or `synthetic-orbit` (compare_backends' ROS-free version of Kock's scenario).
@@ -15,6 +15,10 @@ Kock's pool of 1000 and 50 additions per step). The truth clock offset of a
 simulated stream is read from the bag next to it (accuracy.py's time_offset)
 or given by --truth-offset; `synthetic-orbit`'s truth is on its frames' clock
 (offset 0 whatever --truth-offset says).
+--refine: the eskf and graph runs also batch-refine their graph at the end
+(the ES-EKF's run recorded as a graph, Graph SLAM's own); DIR/refined.md
+compares the trajectory and map before and after on the same frames and
+landmarks.
 Each run: `compare_backends STREAM --algorithm A --label STREAM__LABEL --out DIR ...`
 (DIR/STREAM__LABEL_steps.csv, _landmarks.csv, _summary.txt); then DIR/table.md
 and DIR/<stream>_errors.png, _nees.png, _time.png, _landmarks.png.
@@ -64,12 +68,15 @@ def parse_variant(v):
     return label, parts[0], parts[1:]
 
 
-def run(stream, variant, settings, out, frames, offset=None):
+REFINABLE = ("eskf", "graph")  # the back ends with a graph to refine (compare_backends --refine)
+
+
+def run(stream, variant, settings, out, frames, offset=None, refine=False):
     label, algorithm, extra = parse_variant(variant)
     src = "--synthetic-orbit" if stream == "synthetic-orbit" else stream
     cmd = [tool_path(), src, "--algorithm", algorithm, "--label", stream_name(stream) + "__" + label, "--out", out,
            "--truth-offset", repr(truth_offset(stream, offset))] + (["--frames", str(frames)] if frames else []) + \
-        list(settings) + extra
+        (["--refine"] if refine and algorithm in REFINABLE else []) + list(settings) + extra
     print("$ " + " ".join(cmd), flush=True)
     subprocess.run(cmd, check=True)
 
@@ -89,26 +96,52 @@ def read_summary(path):
     return out
 
 
+def summaries(streams, labels, out):
+    """(stream name, label, summary) of every completed run, in table order."""
+    for s in streams:
+        for lab in labels:
+            p = os.path.join(out, f"{stream_name(s)}__{lab}_summary.txt")
+            if os.path.exists(p):
+                yield stream_name(s), lab, read_summary(p)
+
+
 def table(streams, labels, out):
     lines = ["| stream | back end | MAE position mm | MAE rotation rad | MAE map mm | NEES position | NEES rotation "
              "| NEES map | ms/frame mean / p99 | frames (errors) |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
-    for s in streams:
-        for lab in labels:
-            p = os.path.join(out, f"{stream_name(s)}__{lab}_summary.txt")
-            if not os.path.exists(p):
-                continue
-            m = read_summary(p)
-
-            def f(key, scale=1.0, fmt="%.2f"):
-                x = float(m[key]) * scale
-                return "n/a" if math.isnan(x) else fmt % x
-            lines.append(f"| {stream_name(s)} | {lab} | {f('mae_pos_m', 1e3)} | {f('mae_rot_rad', 1, '%.4f')} | "
-                         f"{f('mae_map_m', 1e3)} | {f('mean_nees_pos')} | {f('mean_nees_rot')} | "
-                         f"{f('mean_nees_map')} | {f('ms_mean', 1, '%.1f')} / {f('ms_p99', 1, '%.1f')} | "
-                         f"{m['frames']} ({m['errors']}) |")
+    for name, lab, m in summaries(streams, labels, out):
+        def f(key, scale=1.0, fmt="%.2f"):
+            x = float(m[key]) * scale
+            return "n/a" if math.isnan(x) else fmt % x
+        lines.append(f"| {name} | {lab} | {f('mae_pos_m', 1e3)} | {f('mae_rot_rad', 1, '%.4f')} | "
+                     f"{f('mae_map_m', 1e3)} | {f('mean_nees_pos')} | {f('mean_nees_rot')} | "
+                     f"{f('mean_nees_map')} | {f('ms_mean', 1, '%.1f')} / {f('ms_p99', 1, '%.1f')} | "
+                     f"{m['frames']} ({m['errors']}) |")
     text = "\n".join(lines) + "\n"
     with open(os.path.join(out, "table.md"), "w") as fh:
+        fh.write(text)
+    print(text)
+
+
+def refined_table(streams, labels, out):
+    """After-the-fact figures of the runs made with --refine: every recorded
+    frame and every landmark of the graph, before and after the batch."""
+    lines = ["| stream | back end | frames | landmarks | MAE position mm before / after | MAE rotation rad "
+             "before / after | MAE map mm before / after | refinement s |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for name, lab, m in summaries(streams, labels, out):
+        if "refine_s" not in m:
+            continue
+
+        def ba(key, scale=1.0, fmt="%.2f"):
+            return " / ".join(fmt % (float(m[f"refine_{w}_{key}"]) * scale) for w in ("before", "after"))
+        lines.append(f"| {name} | {lab} | {m['refine_frames']} | {m['refine_landmarks']} | "
+                     f"{ba('pos_m', 1e3)} | {ba('rot_rad', 1, '%.4f')} | {ba('map_m', 1e3)} | "
+                     f"{float(m['refine_s']):.1f} |")
+    if len(lines) == 2:
+        return
+    text = "\n".join(lines) + "\n"
+    with open(os.path.join(out, "refined.md"), "w") as fh:
         fh.write(text)
     print(text)
 
@@ -192,6 +225,8 @@ def main():
     ap.add_argument("--truth-offset", type=float, default=None,
                     help="t_truth = t_frame + S for every recorded stream (default: from the bag next to the "
                          "stream, else 0; synthetic-orbit: always 0)")
+    ap.add_argument("--refine", action="store_true",
+                    help="eskf and graph runs: batch-refine the run's graph at the end (DIR/refined.md)")
     ap.add_argument("--plot-only", action="store_true", help="tables and plots of the runs already in --out")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
@@ -200,9 +235,10 @@ def main():
     if not a.plot_only:
         for s in streams:
             for v in variants:
-                run(s, v, a.set, a.out, a.frames, a.truth_offset)
+                run(s, v, a.set, a.out, a.frames, a.truth_offset, a.refine)
     labels = [parse_variant(v)[0] for v in variants]
     table(streams, labels, a.out)
+    refined_table(streams, labels, a.out)
     for s in streams:
         plots(s, labels, a.out)
 

@@ -13,7 +13,8 @@
 //  * pool full: the least recently seen landmarks (ties: fewest
 //    observations, then oldest id) not used in this frame's update are
 //    removed so that min(#candidates, ceil(full_pool_add_fraction *
-//    max_new_landmarks)) new landmarks fit.
+//    max_new_landmarks)) new landmarks fit; with full_pool_keep_observations
+//    > 0, landmarks observed that often go only after all the others.
 // The book does not own covariances or descriptors (the back end's storage
 // does); removals apply the pool's one slot plan (removal_plan.hpp) so both
 // stay in the same order.

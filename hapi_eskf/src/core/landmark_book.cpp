@@ -58,7 +58,10 @@ std::vector<int> LandmarkBook::chooseRemovals(int n_additions, const std::vector
     if (!protected_slot[k]) evictable.push_back(k);
   n_evict = std::min<int>(n_evict, static_cast<int>(evictable.size()));
   if (n_evict <= 0) return {};
+  const int keep = settings.full_pool_keep_observations;
+  const auto kept = [&](int k) { return keep > 0 && times_observed_[k] >= keep; };
   std::partial_sort(evictable.begin(), evictable.begin() + n_evict, evictable.end(), [&](int a, int b) {
+    if (kept(a) != kept(b)) return kept(b);
     if (last_seen_[a] != last_seen_[b]) return last_seen_[a] < last_seen_[b];
     if (times_observed_[a] != times_observed_[b]) return times_observed_[a] < times_observed_[b];
     return ids_[a] < ids_[b];

@@ -8,7 +8,7 @@
 //   loop      leaves the start area (sideways / full orbit) and returns; sway + tremor
 //   subject   device held still (tremor only); the scene moves cm and degrees at 0.5-2 Hz
 //   rest      device on a stand (no hand motion at all), scene static: the standing-still drift
-//   orbit     one constant-speed circle around the centre in 50 s, no hand motion (loop closure at the end)
+//   orbit     constant-speed circles around the centre, one in 42 s, no hand motion (loop closure at 42 s)
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>

@@ -1,6 +1,7 @@
-// Orbit: the camera circles the view centre once in 50 s at constant speed,
-// without hand motion, and closes the loop when it comes home (the back-end
-// comparison scenario of Kock 2021: 500 frames at 10 Hz). Around the globe it
+// Orbit: the camera circles the view centre at constant speed, once in 42 s,
+// without hand motion, so a 50 s run (the back-end comparison scenario of
+// Kock 2021: 500 frames at 10 Hz) closes the loop at frame ~420 and then
+// goes over the start area again for ~70 degrees. Around the globe it
 // keeps the standoff and looks at the centre; over a surface it circles a
 // radius of `extent` at the standoff, looking straight down.
 #include <cmath>
@@ -30,7 +31,7 @@ class Orbit : public RigidMotion {
   }
 
  private:
-  static constexpr double kPeriodS = 50.0;
+  static constexpr double kPeriodS = 42.0;
   ViewGeometry view_;
 };
 
