@@ -23,12 +23,10 @@ KEYS = ["refine_frames", "refine_landmarks", "refine_s", "refine_cost_before", "
 
 
 def summary(path):
-    out = {}
-    with open(path) as f:
-        for line in f:
-            k, _, v = line.strip().partition(" ")
-            out[k] = v
-    return out
+    """A run's summary as the harness (tools/eval/compare_backends.py) reads it."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "eval"))
+    import compare_backends  # noqa: E402 (no ROS import at module level)
+    return compare_backends.read_summary(path)
 
 
 def main():
