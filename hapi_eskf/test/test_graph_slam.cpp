@@ -82,6 +82,36 @@ TEST(GraphSlam, OnlineOnGlobeWithinBounds) {
   EXPECT_LT(r.nees_rotation, 7.81);
 }
 
+// The tracked pose carries the frame-shared vision error: two runs on the
+// same frames, with and without Sigma_f, agree in the estimate, and right
+// after the first tracked frame (the landmarks come from the exact gauge
+// keyframe, so nothing else differs yet) the covariances differ by Sigma_f
+// exactly, its translation rotated into the world.
+TEST(GraphSlam, TrackedPoseCarriesTheFrameError) {
+  const sim::GlobeRun run = sim::makeGlobeRun(11, 800, 12, 0.1);
+  graph::GraphSettings with, without;
+  with.frame_error_covariance.diagonal() << 1e-6, 4e-6, 9e-6, 4e-6, 4e-6, 1.6e-5;
+  without.frame_error_covariance.setZero();
+  GraphSlam a{with}, b{without};
+  ASSERT_EQ(a.reset(run.truth[0], 0.0), Status::kOk);
+  ASSERT_EQ(b.reset(run.truth[0], 0.0), Status::kOk);
+  std::set<uint64_t> known_a, known_b;
+  graph::GraphFrameReport rep;
+  for (int k = 0; k < 2; ++k) {
+    ASSERT_EQ(a.processFrame(sim::associateByTruth(run.frames[k], 20, &known_a), &rep), Status::kOk);
+    ASSERT_EQ(b.processFrame(sim::associateByTruth(run.frames[k], 20, &known_b)), Status::kOk);
+  }
+  ASSERT_TRUE(rep.tracked);
+  EXPECT_LT((a.pose().p - b.pose().p).norm(), 1e-12);
+  Mat6 J = Mat6::Identity();
+  J.topLeftCorner<3, 3>() = a.pose().q.toRotationMatrix();
+  const Mat6 expected = J * with.frame_error_covariance * J.transpose();
+  EXPECT_LT((a.poseCovariance() - b.poseCovariance() - expected).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_TRUE(with.validate().empty());
+  with.frame_error_covariance(3, 3) = -1.0;
+  EXPECT_FALSE(with.validate().empty());
+}
+
 // Every kind of bad frame is rejected with its status and changes nothing.
 TEST(GraphSlam, BadInputLeavesStateUnchanged) {
   const sim::GlobeRun run = sim::makeGlobeRun(8, 800, 12, 0.1);

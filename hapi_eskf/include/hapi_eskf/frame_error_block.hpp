@@ -33,6 +33,11 @@ namespace hapi_eskf {
 
 constexpr int kFrameErrorDim = 6;
 
+// Sigma_f in the camera frame [dp, dtheta] (frame_translation_sigma on each
+// axis, frame_rotation_sigma about x and y, frame_optical_axis_sigma about
+// the optical axis). Also the floor Graph SLAM adds to its tracked pose.
+Mat6 frameErrorCameraCovariance(const EskfSettings& s);
+
 // The backend's pose block for the settings: the motion model's
 // (poseDim(s.motion_model)), plus kFrameErrorDim spare rows when the
 // settings model a frame error.
@@ -80,7 +85,7 @@ class FrameErrorBlock {
 
   int model_dim_;
   bool enabled_;
-  Mat6 sigma_camera_ = Mat6::Zero();
+  Mat6 sigma_camera_;
   bool open_ = false;
 };
 

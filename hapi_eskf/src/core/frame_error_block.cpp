@@ -10,11 +10,15 @@ int filterPoseDim(const EskfSettings& s) {
   return s.frameErrorModelled() ? model_dim + kFrameErrorDim : model_dim;
 }
 
-FrameErrorBlock::FrameErrorBlock(int model_dim, const EskfSettings& s)
-    : model_dim_(model_dim), enabled_(s.frameErrorModelled()) {
+Mat6 frameErrorCameraCovariance(const EskfSettings& s) {
   const double st = s.frame_translation_sigma, sr = s.frame_rotation_sigma, sz = s.frame_optical_axis_sigma;
-  sigma_camera_.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sz * sz;
+  Mat6 C = Mat6::Zero();
+  C.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sz * sz;
+  return C;
 }
+
+FrameErrorBlock::FrameErrorBlock(int model_dim, const EskfSettings& s)
+    : model_dim_(model_dim), enabled_(s.frameErrorModelled()), sigma_camera_(frameErrorCameraCovariance(s)) {}
 
 PoseMat FrameErrorBlock::embed(const PoseMat& M, double spare_diagonal) const {
   if (!enabled_) return M;

@@ -11,6 +11,8 @@ std::string GraphSettings::validate() const {
   if (!err.empty()) return err;
   if (!(sigma_acceleration > 0.0) || !(sigma_angular_acceleration > 0.0))
     return "sigma_acceleration and sigma_angular_acceleration must be > 0";
+  if (!frame_error_covariance.allFinite() || !(frame_error_covariance.diagonal().minCoeff() >= 0.0))
+    return "frame_error_covariance must be finite with a non-negative diagonal";
   return "";
 }
 
@@ -25,6 +27,7 @@ GraphSettings graphSettings(const EskfSettings& s) {
 #undef HAPI_GRAPH_FIELD
   g.sigma_acceleration = s.sigma_acceleration;
   g.sigma_angular_acceleration = s.sigma_angular_acceleration;
+  g.frame_error_covariance = frameErrorCameraCovariance(s);
   return g;
 }
 

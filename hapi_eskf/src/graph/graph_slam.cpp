@@ -81,10 +81,14 @@ Status GraphSlam::processFrame(const AssociatedFrame& frame, GraphFrameReport* r
     Mat6 C;
     if (trackPose(points, predicted, settings_, &x, &C)) {
       // C is the pose given the landmarks, each with its own error; what they
-      // share (the window's placement in the world) does not average away
-      // over them: the newest keyframe's marginal stands for it
-      // (docs/DESIGN.md "Graph SLAM", covariances).
-      cov = C + (map_.keyframes.empty() ? Mat6::Zero() : map_.keyframes.back().covariance);
+      // share does not average away over them: the window's placement in the
+      // world (the newest keyframe's marginal stands for it) and the frame's
+      // own shared vision error Sigma_f (camera frame; dp is in the world
+      // here) (docs/DESIGN.md "Graph SLAM", covariances).
+      Mat6 J = Mat6::Identity();
+      J.topLeftCorner<3, 3>() = x.q.toRotationMatrix();
+      cov = C + (map_.keyframes.empty() ? Mat6::Zero() : map_.keyframes.back().covariance) +
+            J * settings_.frame_error_covariance * J.transpose();
       rep.tracked = true;
     }
   }

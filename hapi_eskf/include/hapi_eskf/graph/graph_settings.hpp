@@ -4,6 +4,7 @@
 #pragma once
 
 #include "hapi_eskf/field_table.hpp"
+#include "hapi_eskf/frame_error_block.hpp"
 #include "hapi_eskf/graph/robust_loss.hpp"
 #include "hapi_eskf/settings.hpp"
 
@@ -21,6 +22,10 @@ struct GraphSettings {
   // settings (eskf_settings.def), not a second copy.
   double sigma_acceleration = EskfSettings().sigma_acceleration;
   double sigma_angular_acceleration = EskfSettings().sigma_angular_acceleration;
+  // The frame-shared vision error, Sigma_f in the camera frame [dp, dtheta]
+  // (frame_error_block.hpp; the filter's frame_* settings): the tracked
+  // pose's floor (docs/DESIGN.md "Graph SLAM", covariances).
+  Mat6 frame_error_covariance = frameErrorCameraCovariance(EskfSettings());
 
   std::string validate() const;  // empty when valid
 };
