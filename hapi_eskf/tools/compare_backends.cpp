@@ -48,8 +48,6 @@
 #include "stream_source.hpp"
 
 #ifdef HAPI_ESKF_WITH_GRAPH
-#include "hapi_eskf/associating_backend.hpp"
-#include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/graph/batch_refinement.hpp"
 #include "hapi_eskf/graph/eskf_recording.hpp"
 #include "hapi_eskf/graph/graph_slam.hpp"
@@ -77,6 +75,13 @@ struct Anchor {
   Mat3 R = Mat3::Identity();  // true first camera -> truth world
   Vec3 t = Vec3::Zero();
   Vec3 toFilter(const Vec3& x) const { return R.transpose() * (x - t); }
+  // Errors of the pose x (filter world) against the true pose g (truth
+  // world): position p_true - p [m] and rotation Log(R^T R_true) [rad].
+  void poseErrors(const tools::TruePose& g, const PoseState& x, Vec3* ep, Vec3* er) const {
+    *ep = toFilter(g.p) - x.p;
+    const Mat3 R_true = R.transpose() * g.q.toRotationMatrix();
+    *er = logSO3(x.q.toRotationMatrix().transpose() * R_true);
+  }
 };
 
 // The true camera pose at time t (truth clock), interpolated (position
@@ -149,10 +154,10 @@ GraphScore scoreGraph(const graph::GraphMap& g, const std::vector<tools::TruePos
   }
   std::vector<double> ep, er, em, nm;
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    const tools::TruePose t = truthAt(truth, stamps[i] + truth_offset);
-    ep.push_back((anchor.toFilter(t.p) - poses[i].p).norm());
-    er.push_back(logSO3(poses[i].q.toRotationMatrix().transpose() * anchor.R.transpose() * t.q.toRotationMatrix())
-                     .norm());
+    Vec3 e_p, e_r;
+    anchor.poseErrors(truthAt(truth, stamps[i] + truth_offset), poses[i], &e_p, &e_r);
+    ep.push_back(e_p.norm());
+    er.push_back(e_r.norm());
   }
   for (const auto& kv : g.landmarks) {
     const auto it = truth_of.find(kv.first);
@@ -230,15 +235,10 @@ int main(int argc, char** argv) {
   if (backend->reset(PoseState(), t0) != Status::kOk) { std::cerr << "reset failed\n"; return 1; }
 #ifdef HAPI_ESKF_WITH_GRAPH
   // --refine: the ES-EKF's run is recorded as a graph; Graph SLAM has its own.
-  // (The SEIF runs on the ES-EKF's host logic: the algorithm decides.)
-  Eskf* const eskf =
-      refine && s.backend_algorithm == BackendAlgorithm::kEskf ? dynamic_cast<Eskf*>(backend.get()) : nullptr;
+  Eskf* const eskf = refine ? graph::recordableEskf(backend.get(), s.backend_algorithm) : nullptr;
   std::unique_ptr<graph::EskfRecorder> recorder;
   if (eskf) recorder = std::make_unique<graph::EskfRecorder>(s.graph_keyframe_min_observations);
-  const graph::GraphSlam* graph_slam = nullptr;
-  if (refine)
-    if (const auto* a = dynamic_cast<const AssociatingBackend*>(backend.get()))
-      graph_slam = dynamic_cast<const graph::GraphSlam*>(&a->core());
+  const graph::GraphSlam* graph_slam = refine ? graph::graphSlamOf(backend.get()) : nullptr;
   if (refine && !eskf && !graph_slam) {
     std::cerr << "--refine: only eskf and graph have a graph to refine\n";
     return 1;
@@ -287,11 +287,9 @@ int main(int argc, char** argv) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - settle_start).count();
     const tools::TruePose g = truthAt(stream.truth, f.stamp + truth_offset);
     const PoseState x = backend->pose();
-    const Mat3 R_true = anchor.R.transpose() * g.q.toRotationMatrix();
-    const Vec3 p_true = anchor.toFilter(g.p);
     const Mat6 C = backend->cameraPoseCovariance();
-    const Vec3 ep = p_true - x.p;
-    const Vec3 er = logSO3(x.q.toRotationMatrix().transpose() * R_true);
+    Vec3 ep, er;
+    anchor.poseErrors(g, x, &ep, &er);
     pos_err.push_back(ep.norm());
     rot_err.push_back(er.norm());
     nees_pos.push_back(nees(ep, C.topLeftCorner<3, 3>()));

@@ -9,6 +9,10 @@
 namespace hapi_eskf {
 namespace graph {
 
+Eskf* recordableEskf(SlamBackend* backend, BackendAlgorithm algorithm) {
+  return algorithm == BackendAlgorithm::kEskf ? dynamic_cast<Eskf*>(backend) : nullptr;
+}
+
 Status EskfRecorder::processFrame(Eskf* eskf, const StereoFrame& frame, IterationReport* report) {
   IterationReport rep;
   std::unordered_map<uint64_t, int> seen_before;  // id -> times observed

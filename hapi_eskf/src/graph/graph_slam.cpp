@@ -11,6 +11,7 @@
 //    their own marginal covariances (bundle_adjustment.hpp).
 #include "hapi_eskf/graph/graph_slam.hpp"
 
+#include "hapi_eskf/associating_backend.hpp"
 #include "hapi_eskf/graph/pose_tracker.hpp"
 #include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/so3.hpp"
@@ -22,6 +23,11 @@ namespace hapi_eskf {
 namespace graph {
 
 GraphSlam::GraphSlam(const GraphSettings& settings) : settings_(settings) {}
+
+const GraphSlam* graphSlamOf(const SlamBackend* backend) {
+  const auto* a = dynamic_cast<const AssociatingBackend*>(backend);
+  return a ? dynamic_cast<const GraphSlam*>(&a->core()) : nullptr;
+}
 
 GraphSlam::~GraphSlam() = default;
 

@@ -1,7 +1,6 @@
 // ~refine: the batch refinement of the live run (graph_refiner.hpp).
 #include "hapi_eskf/ros/graph_refiner.hpp"
 
-#include "hapi_eskf/associating_backend.hpp"
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/map_files.hpp"
 #ifdef HAPI_ESKF_WITH_GRAPH
@@ -25,13 +24,9 @@ void GraphRefiner::attach(SlamBackend* backend) {
   eskf_ = nullptr;
   graph_ = nullptr;
 #ifdef HAPI_ESKF_WITH_GRAPH
-  // The ES-EKF itself (not the SEIF on its host logic): its run is recorded.
-  if (backend && params_.filter.backend_algorithm == BackendAlgorithm::kEskf) {
-    eskf_ = dynamic_cast<Eskf*>(backend);
-    if (eskf_) recorder_ = std::make_unique<graph::EskfRecorder>(params_.filter.graph_keyframe_min_observations);
-  }
-  if (const auto* a = dynamic_cast<const AssociatingBackend*>(backend))
-    graph_ = dynamic_cast<const graph::GraphSlam*>(&a->core());
+  eskf_ = graph::recordableEskf(backend, params_.filter.backend_algorithm);
+  if (eskf_) recorder_ = std::make_unique<graph::EskfRecorder>(params_.filter.graph_keyframe_min_observations);
+  graph_ = graph::graphSlamOf(backend);
 #else
   (void)backend;
 #endif

@@ -22,6 +22,11 @@
 namespace hapi_eskf {
 namespace graph {
 
+// The ES-EKF behind `backend` when its run can be recorded, else nullptr:
+// the ES-EKF itself, not the SEIF that runs on its host logic (the
+// algorithm tells the two apart).
+Eskf* recordableEskf(SlamBackend* backend, BackendAlgorithm algorithm);
+
 class EskfRecorder {
  public:
   // Frames with fewer than `min_keyframe_observations` observations are kept

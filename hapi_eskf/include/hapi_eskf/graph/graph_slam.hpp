@@ -16,6 +16,7 @@
 #include "hapi_eskf/graph/graph_map.hpp"
 #include "hapi_eskf/graph/graph_settings.hpp"
 #include "hapi_eskf/graph/window_optimiser.hpp"
+#include "hapi_eskf/slam_backend.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
 
@@ -80,6 +81,9 @@ class GraphSlam final : public AssociatedCore {
   double time_ = 0.0;
   std::unique_ptr<WindowOptimiser> solver_;
 };
+
+// The Graph SLAM core behind `backend` (an AssociatingBackend), else nullptr.
+const GraphSlam* graphSlamOf(const SlamBackend* backend);
 
 }  // namespace graph
 }  // namespace hapi_eskf
