@@ -5,10 +5,12 @@
 // (the frame-to-frame camera motion) instead of the IMU.
 #include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/pose_propagator.hpp"
+#include "sim_scenario.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 using hapi_eskf::CameraExtrinsic;
 using hapi_eskf::Eskf;
@@ -143,4 +145,55 @@ TEST(PosePropagator, FollowsTheSurfaceAfterAFrameWithSceneMotion) {
   EXPECT_FALSE(prop.surfaceRelative());
   ASSERT_EQ(prop.step(ImuSample{1.21, Vec3(0, 0, 2.0), Vec3::Zero()}), Status::kOk);
   EXPECT_GT(prop.pose().q.angularDistance(b.q), 0.015);
+}
+
+// A velocity no frame has measured (the start's guess of rest) gives no
+// IMU-rate output; the second frame, updated against the map of the first,
+// measures it, and so does a still start. The copy steps either way.
+TEST(PosePropagator, PublishesOnlyAMeasuredVelocity) {
+  EskfSettings s;
+  s.max_landmarks = 100;
+  s.max_update_landmarks = 50;
+  s.motion_model = MotionModelKind::kGyro;
+  ASSERT_EQ(s.validate(), "");
+  Eskf gyro(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::filterPoseDim(s)));
+  ASSERT_EQ(gyro.reset(PoseState(), 1.0), Status::kOk);
+  PosePropagator prop(s);
+  prop.rebase(gyro);
+  EXPECT_TRUE(prop.valid());
+  EXPECT_FALSE(prop.publishable());
+  std::mt19937 rng(7);
+  const hapi_eskf::sim::World world = hapi_eskf::sim::randomWorld(rng, 60, Vec3(-2, -1.5, 3), Vec3(2, 1.5, 6));
+  const hapi_eskf::sim::StereoRig rig;
+  hapi_eskf::IterationReport rep;
+  ASSERT_EQ(gyro.processFrame(hapi_eskf::sim::makeFrame(world, PoseState(), rig, 1.1, 0, rng), &rep), Status::kOk);
+  ASSERT_EQ(rep.n_updated, 0);  // the first frame only builds the map
+  prop.rebase(gyro);
+  EXPECT_FALSE(prop.publishable());
+  EXPECT_EQ(prop.step(ImuSample{1.15, Vec3(0, 0, 0.1), Vec3::Zero()}), Status::kOk);
+  ASSERT_EQ(gyro.processFrame(hapi_eskf::sim::makeFrame(world, PoseState(), rig, 1.2, 0, rng), &rep), Status::kOk);
+  ASSERT_GT(rep.n_updated, 10);
+  prop.rebase(gyro);
+  EXPECT_TRUE(prop.publishable());
+  prop.invalidate();
+  EXPECT_FALSE(prop.publishable());
+  ASSERT_EQ(gyro.reset(PoseState(), 2.0), Status::kOk);  // a restart guesses again
+  prop.rebase(gyro);
+  EXPECT_FALSE(prop.publishable());
+
+  // Inertial: a still start measures a zero velocity, a moving one does not.
+  s.motion_model = MotionModelKind::kInertial;
+  for (const bool still : {true, false}) {
+    Eskf inertial(s, hapi_eskf::makeCpuBackend(s.max_landmarks, 32, hapi_eskf::filterPoseDim(s)));
+    ASSERT_EQ(inertial.reset(PoseState(), 1.0), Status::kOk);
+    double t = 1.0;
+    while (inertial.awaitingAlignment()) {
+      t += 0.005;
+      ASSERT_EQ(inertial.addImu(still ? ImuSample{t, Vec3::Zero(), Vec3(0, 0, s.gravity_magnitude)} : sampleAt(t)),
+                Status::kOk);
+    }
+    PosePropagator p(s);
+    p.rebase(inertial);
+    EXPECT_EQ(p.publishable(), still);
+  }
 }

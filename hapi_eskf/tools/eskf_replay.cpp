@@ -253,7 +253,8 @@ int main(int argc, char** argv) {
     for (; use_imu && next_imu < imu.size() && imu[next_imu].stamp <= frames[fi].stamp; ++next_imu) {
       const ImuSample& m = imu[next_imu];
       if (m.stamp <= eskf.time()) continue;
-      if (rate_file && imu_rate.valid() && m.stamp > imu_rate.time() && imu_rate.step(m) == Status::kOk) {
+      if (rate_file && imu_rate.valid() && m.stamp > imu_rate.time() && imu_rate.step(m) == Status::kOk &&
+          imu_rate.publishable()) {
         writePose(rate_file, m.stamp, imu_rate.pose());
         const PoseState c = imu_rate.pose();
         std::fprintf(rate_file, " %.9f %.9f %.9f %.9f %.9f %.9f\n", c.v.x(), c.v.y(), c.v.z(), c.w.x(), c.w.y(),

@@ -60,6 +60,10 @@ class RunCollector:
         self.last_odom_wall = None
         self.first_odom_wall = None
         self.odom_count = 0
+        # Odometry (and its TF) must have strictly increasing stamps: TF
+        # rejects a repeated one as TF_REPEATED_DATA.
+        self.last_odom_stamp = None
+        self.odom_stamps_not_increasing = 0
         rospy.Subscriber(rospy.get_param("~odom_topic", "/eskf/odom"), Odometry, self.on_odom, queue_size=100)
         rospy.Subscriber(rospy.get_param("~gt_topic", "/ground_truth/pose"), PoseStamped, self.on_gt, queue_size=100)
         rospy.Subscriber(rospy.get_param("~map_topic", "/eskf/map"), PointCloud2, self.on_map, queue_size=2)
@@ -77,6 +81,9 @@ class RunCollector:
         sample = (msg.header.stamp.to_sec(), np.array([p.x, p.y, p.z]), np.array([o.x, o.y, o.z, o.w]),
                   np.array(msg.pose.covariance).reshape(6, 6), np.array([v.x, v.y, v.z, w.x, w.y, w.z]))
         with self.lock:
+            if self.last_odom_stamp is not None and msg.header.stamp <= self.last_odom_stamp:
+                self.odom_stamps_not_increasing += 1
+            self.last_odom_stamp = msg.header.stamp
             self.est.append(sample)
             now = time.time()
             self.last_odom_wall = now
@@ -166,9 +173,10 @@ class RunCollector:
         with self.lock:
             map_points = self.map_points
             odom_count, diag = self.odom_count, dict(self.diag)
+            not_increasing = self.odom_stamps_not_increasing
             wall = (self.last_odom_wall - self.first_odom_wall) if self.odom_count > 1 else 0.0
         est, gt, gt_twist = self.trajectories()
-        res = {"odom_messages": odom_count, "gt_messages": len(gt["t"])}
+        res = {"odom_messages": odom_count, "gt_messages": len(gt["t"]), "odom_stamps_not_increasing": not_increasing}
         if odom_count > 1 and est["t"][-1] > est["t"][0]:
             res["odom_rate_sim_hz"] = (odom_count - 1) / (est["t"][-1] - est["t"][0])
         if wall > 0:
@@ -243,6 +251,7 @@ class PipelineAccuracyTest(unittest.TestCase):
         res = collected[0]
         self.assertTrue(ended, "odometry never went quiet (bag did not end?)")
         self.assertGreater(res["odom_messages"], 0, "no odometry")
+        self.assertEqual(res["odom_stamps_not_increasing"], 0, "odometry stamps repeated or went back")
         self.assertIn("ate_rmse_m", res, "no odometry matched the ground truth")
         self.assertLessEqual(res["ate_fraction_of_distance"], rospy.get_param("~max_ate_fraction", 0.02))
         if rospy.has_param("~max_position_error"):  # never diverged: the largest error after the alignment

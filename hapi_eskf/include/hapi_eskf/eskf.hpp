@@ -149,6 +149,7 @@ class Eskf final : public SlamBackend {
   // Inertial model: samples collected for the gravity alignment until it is done.
   bool awaiting_alignment_ = false;
   std::vector<ImuSample> alignment_samples_;
+  bool velocity_measured_ = false;  // PoseBlockState::velocity_measured
   SceneMotionMonitor scene_motion_;
   Relocaliser relocaliser_;
   LandmarkBook book_;  // per slot, same order as the backend's slots

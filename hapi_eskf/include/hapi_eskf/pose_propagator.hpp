@@ -26,6 +26,12 @@
 // the two latest filter poses) instead of integrating the IMU, so pose and
 // twist stay relative to the surface, at the IMU rate but with the frames'
 // bandwidth.
+//
+// Unmeasured velocity: until a frame has measured the filter's velocity
+// (PoseBlockState::velocity_measured: after a moving start or an outage,
+// the velocity is a guess of rest), publishable() is false: the copy still
+// steps, but a dead-reckoned pose would be off by the velocity error times
+// the time since the frame, so the outputs wait for the next frame.
 #pragma once
 
 #include "hapi_eskf/slam_backend.hpp"
@@ -53,6 +59,8 @@ class PosePropagator {
   }
   bool surfaceRelative() const { return relative_; }
   bool valid() const { return model_ != nullptr; }
+  // Valid, and its velocity measured (see "Unmeasured velocity" above).
+  bool publishable() const { return model_ != nullptr && velocity_measured_; }
 
   // One IMU step to the sample's stamp (predictStep's checks:
   // kNotInitialised before rebase(), kNonFinite, kInvalidArgument for a
@@ -72,6 +80,7 @@ class PosePropagator {
   NominalState x_;
   PoseMat C_;
   double time_ = 0.0;
+  bool velocity_measured_ = false;
   // The previous frame's camera pose and covariance (surface-relative twist).
   bool have_previous_ = false;
   PoseState previous_;

@@ -35,6 +35,10 @@ struct PoseBlockState {
   NominalState x;
   PoseMat C;  // pose block covariance (P x P, P = poseDim(motion_model))
   double time = 0.0;
+  // The velocity in x is measured: a frame updated against the map since
+  // the filter last set it to rest as a guess (a start while moving, a
+  // prediction after an outage), or a still start measured it zero.
+  bool velocity_measured = false;
 };
 
 class SlamBackend {

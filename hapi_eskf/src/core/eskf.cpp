@@ -72,6 +72,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   restartFirstEstimates();
   time_ = stamp;
   relocaliser_.reset(stamp);
+  velocity_measured_ = false;  // the initial velocity is a guess
   awaiting_alignment_ = model_->kind() == MotionModelKind::kInertial;
   alignment_samples_.clear();
   scene_motion_.reset();
@@ -178,6 +179,7 @@ Status Eskf::align() {
   for (const ImuSample& m : alignment_samples_) scene_motion_.addImu(m, state_.b_g);
   alignment_samples_.clear();
   awaiting_alignment_ = false;
+  velocity_measured_ = start.window.still;  // zero, measured by the still window
   return Status::kOk;
 }
 
@@ -200,6 +202,7 @@ bool Eskf::poseBlockState(PoseBlockState* out) const {
   out->x = state_;
   out->C = poseCovariance();
   out->time = time_;
+  out->velocity_measured = velocity_measured_;
   return true;
 }
 
@@ -250,9 +253,11 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   // After an outage longer than relocalise_gap the last velocity says nothing
   // about the motion since: predict from rest (settings.hpp).
   const NominalState state_before = state_, lin_before = lin_;
+  const bool velocity_measured_before = velocity_measured_;
   if (relocaliser_.beginFrame(frame.stamp)) {
     model_->stop(&state_);
     restartFirstEstimates();
+    velocity_measured_ = false;
   }
   auto t0 = Clock::now();
   st = predictStepTo(frame.stamp, nullptr);
@@ -262,6 +267,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     state_ = state_before;  // a rejected frame changes nothing
     lin_ = lin_before;
     relocaliser_.rollback();
+    velocity_measured_ = velocity_measured_before;
     return finish(st);
   }
   const double previous_frame_stamp = relocaliser_.acceptFrame(frame.stamp);
@@ -364,6 +370,10 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
       }
       rep.n_updated = static_cast<int>(used_meas.size());
       rep.mean_nis = nis / rep.n_updated;
+      // The map an earlier frame built fixes this pose, so the velocity
+      // (the displacement since) is measured, unless the pose was just
+      // moved to the map fit after an outage with the velocity at rest.
+      if (!rep.relocalised) velocity_measured_ = true;
     } else if (st == Status::kNotPositiveDefinite || st == Status::kNonFinite) {
       rep.update_skipped = true;
       result = Status::kNotPositiveDefinite;

@@ -44,6 +44,8 @@ void PosePropagator::rebase(const SlamBackend& filter, bool scene_moving) {
     frame_time_ = time_;
     relative_ = true;
   }
+  // Surface-relative mode takes its twist from two measured frames.
+  velocity_measured_ = relative_ || s.velocity_measured;
   have_previous_ = true;
   previous_ = camera;
   previous_C_ = camera_C;

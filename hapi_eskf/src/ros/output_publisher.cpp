@@ -45,7 +45,7 @@ CameraInMap OutputPublisher::publishFrame(const ros::Time& stamp, const std::str
   // With an IMU model the IMU-rate output may already be past this frame
   // (front-end latency): outputs keep strictly increasing stamps, and the
   // corrected state reaches the next ones through the re-based propagation.
-  if (stamp.toSec() > last_output_stamp_) publish(stamp, pose, filter.cameraCovariance(), T_map_cam);
+  if (stamp > last_output_stamp_) publish(stamp, pose, filter.cameraCovariance(), T_map_cam);
   if (propagator_) {
     propagator_->rebase(filter, scene_moving);
     // Catch up with the samples already received after this frame (their
@@ -57,7 +57,7 @@ CameraInMap OutputPublisher::publishFrame(const ros::Time& stamp, const std::str
 
 void OutputPublisher::restart() {
   std::lock_guard<std::mutex> lk(mu_);
-  last_output_stamp_ = -1.0;
+  last_output_stamp_ = ros::Time();
   if (propagator_) propagator_->invalidate();
 }
 
@@ -74,8 +74,14 @@ void OutputPublisher::stepAndPublish(const TimedImuSample& s) {
     ROS_WARN_THROTTLE_NAMED(2.0, log_name_, "IMU-rate propagation failed at %.3f: %s", t, toString(st));
     return;
   }
-  // One output per sample: the output rate is the IMU rate.
-  if (t > last_output_stamp_) {
+  if (!propagator_->publishable()) {
+    ++stats_.counters.imu_outputs_held;
+    return;
+  }
+  // One output per sample: the output rate is the IMU rate. Stamps are
+  // compared as ros::Time: the sample's camera-clock stamp in seconds may
+  // round one ulp above a frame's stamp it equals, and TF rejects a repeat.
+  if (s.ros_stamp > last_output_stamp_) {
     const PoseState pose = propagator_->pose();
     publish(s.ros_stamp, pose, propagator_->cameraCovariance(), toCameraInMap(pose, T_map_world_));
     ++stats_.counters.imu_outputs;
@@ -84,7 +90,7 @@ void OutputPublisher::stepAndPublish(const TimedImuSample& s) {
 
 void OutputPublisher::publish(const ros::Time& stamp, const PoseState& pose, const Mat12& C,
                               const CameraInMap& T_map_cam) {
-  last_output_stamp_ = stamp.toSec();
+  last_output_stamp_ = stamp;
   ++stats_.counters.outputs;
   nav_msgs::Odometry odom;
   odom.header.stamp = stamp;

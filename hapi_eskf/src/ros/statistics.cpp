@@ -158,6 +158,7 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     stat.add("imu_rejected_by_filter", counters.imu_rejected_by_filter.load());
     stat.add("imu_gaps", counters.imu_gaps.load());
     stat.add("imu_rate_outputs", counters.imu_outputs.load());
+    stat.add("imu_rate_outputs_held", counters.imu_outputs_held.load());
     stat.add("frames_awaiting_imu", awaiting);
     stat.add("frames_vision_led", vision_led);
     stat.add("frames_scene_moving", scene_moving);

@@ -17,6 +17,7 @@
 #include "hapi_eskf/ros/statistics.hpp"
 
 #include <ros/publisher.h>
+#include <ros/time.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <memory>
@@ -71,7 +72,7 @@ class OutputPublisher {
   Eigen::Isometry3d T_cam_base_ = Eigen::Isometry3d::Identity();
   std::string camera_frame_;  // child frame: the camera frame of the last processed frame
   std::unique_ptr<PosePropagator> propagator_;  // IMU motion model only
-  double last_output_stamp_ = -1.0;
+  ros::Time last_output_stamp_;  // zero: none since the start
 };
 
 }  // namespace ros_glue

@@ -47,6 +47,7 @@ class NodeletStatistics {
     Counter frames_vision_led{0}, frames_scene_moving{0};  // IMU and vision disagreed (scene_motion_monitor.hpp)
     Counter outputs{0};      // odom/pose/TF outputs (per frame, or per IMU sample with an IMU model)
     Counter imu_outputs{0};  // of which from the IMU-rate propagation
+    Counter imu_outputs_held{0};  // IMU samples without output: velocity not yet measured (pose_propagator.hpp)
     std::array<Counter, kRejectCount> rejected{};  // by Reject reason
   };
 
