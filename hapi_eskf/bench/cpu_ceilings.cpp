@@ -2,7 +2,7 @@
 // through the backend's own calls (cpu_ceilings.hpp).
 #include "cpu_ceilings.hpp"
 
-#include "../src/core/cpu_linear_algebra.hpp"
+#include "../src/covariance/cpu_linear_algebra.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,5 @@
 // Measured rates of this machine's CPU linear algebra in the benchmark's own
-// run (OpenBLAS and Eigen through src/core/cpu_linear_algebra.hpp, the code
+// run (OpenBLAS and Eigen through src/covariance/cpu_linear_algebra.hpp, the code
 // the CPU backend calls): a square DGEMM and, per pool size, the update's own
 // shapes: DSYRK (n x n += n x 3L) and DPOTRF + DTRSM of S (3L x 3L, n x 3L).
 // The backend's update rate is then stated against them (same run, ratios).

@@ -1,7 +1,7 @@
 #include "device_ceilings.hpp"
 
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
-#include "../src/cuda/blas_traits.hpp"
+#include "../src/covariance/cuda/blas_traits.hpp"
 
 #include <cublas_v2.h>
 #include <cuda_runtime.h>

@@ -20,14 +20,14 @@ struct Ceilings {
 struct RankUpdateTiming {
   bool measured = false;
   // C <- C - A A^T, random A, median of the repetitions, per schedule
-  // (src/cuda/blas_traits.hpp rankUpdate): SYRK, panelled GEMM, recursive.
+  // (src/covariance/cuda/blas_traits.hpp rankUpdate): SYRK, panelled GEMM, recursive.
   double syrk_ms = 0, gemm_ms = 0, recursive_ms = 0;
   // Controls of the recursive schedule, interleaved with the above: leading
   // dimension n instead of the padded one, and an all-zero C (power: the
   // rate depends on the bits moved).
   double recursive_unpadded_ms = 0, recursive_zero_c_ms = 0;
   // Update step 3 with the same shape, A <- P L^-T: TRSM in place, and the
-  // trtri + GEMM of Solve::kInverse (src/cuda/cuda_backend.cpp).
+  // trtri + GEMM of Solve::kInverse (src/covariance/cuda/cuda_backend.cpp).
   double trsm_ms = 0, inverse_ms = 0;
   double flops = 0;                 // n^2 k (one triangle, multiply-add = 2 flops)
   double bytes = 0;                 // lower triangle read + written once, A read once

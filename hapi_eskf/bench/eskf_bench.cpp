@@ -32,12 +32,12 @@
 #include "device_ceilings.hpp"
 #include "scenario.hpp"
 
-#include "hapi_eskf/covariance_backend.hpp"
-#include "../src/core/cpu_linear_algebra.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "../src/covariance/cpu_linear_algebra.hpp"
 #include "hapi_nodelet_kit/sample_quantiles.hpp"
 #ifdef HAPI_ESKF_BENCH_WITH_CUDA
-#include "hapi_eskf/cuda/cuda_backend.hpp"
-#include "../src/cuda/stage_times.hpp"
+#include "hapi_eskf/covariance/cuda_backend.hpp"
+#include "../src/covariance/cuda/stage_times.hpp"
 #endif
 
 #include <algorithm>

@@ -7,9 +7,10 @@
 // and their sum per sample (what one IMU sample costs the filter).
 //
 //   hapi_eskf_imu_bench [--k 2000] [--samples 4000] [--rate 200] [--frame-rate 10] [key=value ...]
-#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 #include "hapi_eskf/random_draw.hpp"
-#include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/so3.hpp"
 
 #include <chrono>

@@ -21,7 +21,7 @@
 // Cholesky, TRSM, SYRK; O(n^2 3L)) on cpu-blas and cpu-eigen. Both start from
 // the same C and means; the results are compared (dx and C, relative) so the
 // timed work is the same Kalman update.
-#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/so3.hpp"
 
 #include <mrpt/bayes/CKalmanFilterCapable.h>

@@ -1,7 +1,7 @@
 #include "scenario.hpp"
 #include "hapi_eskf/random_draw.hpp"
 
-#include "hapi_eskf/removal_plan.hpp"
+#include "hapi_eskf/backend/removal_plan.hpp"
 
 #include <algorithm>
 #include <chrono>

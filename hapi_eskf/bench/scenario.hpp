@@ -2,7 +2,7 @@
 // landmarks, L = 200 of them seen again per frame plus 20 new measurements, so
 // association, update, eviction (removal of 20) and addition run every
 // iteration. It drives the backend with the filter's own host code
-// (jacobians.hpp, association.hpp) in the order of Eskf::processFrame:
+// (backend/measurement_model.hpp, backend/association.hpp) in the order of Eskf::processFrame:
 // predict -> association -> update -> removal -> addition -> frameCompleted.
 // Which pool landmarks a frame re-observes (Visibility):
 //  * kRandom: a random set every frame, i.e. the visible set jumps every frame
@@ -14,9 +14,10 @@
 //    landmarks are placed inside the current view.
 #pragma once
 
-#include "hapi_eskf/association.hpp"
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/backend/association.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
+#include "hapi_eskf/backend/pose_kinematics.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/settings.hpp"
 
 #include <memory>

@@ -6,8 +6,8 @@
 // tests, so both compare against the same sequences.
 #pragma once
 
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/removal_plan.hpp"
+#include "hapi_eskf/backend/removal_plan.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "test_random.hpp"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // first measurement observes a known landmark and which has >= 2 of them.
 #pragma once
 
-#include "hapi_eskf/associated_frame.hpp"
+#include "hapi_eskf/backend/associated_frame.hpp"
 
 #include <cmath>
 #include <vector>

@@ -5,7 +5,7 @@
 // noise model). The world frame is the first camera, as in every back end.
 #pragma once
 
-#include "hapi_eskf/associated_frame.hpp"
+#include "hapi_eskf/backend/associated_frame.hpp"
 #include "hapi_eskf/random_draw.hpp"
 #include "sim_scenario.hpp"
 

@@ -5,7 +5,7 @@
 // extrinsic. World: z up, gravity (0, 0, -9.81).
 #pragma once
 
-#include "hapi_eskf/motion_model.hpp"
+#include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "sim_scenario.hpp"

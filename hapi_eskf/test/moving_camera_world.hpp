@@ -3,7 +3,7 @@
 // within range, with 1 cm noise and a fixed descriptor per point.
 #pragma once
 
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #include "test_random.hpp"
 
 #include <cmath>

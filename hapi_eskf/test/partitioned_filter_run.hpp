@@ -8,9 +8,10 @@
 
 #include "moving_camera_world.hpp"
 
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/eskf.hpp"
-#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/backend/pose_kinematics.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,8 @@
 // with a stereo noise model (lateral sigma ~ depth, along-ray sigma ~ depth^2).
 #pragma once
 
-#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
+#include "hapi_eskf/backend/pose_kinematics.hpp"
 #include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "hapi_eskf/types.hpp"

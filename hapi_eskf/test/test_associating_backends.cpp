@@ -4,7 +4,7 @@
 // stays within pose and map error bounds with PSD covariances; bad frames
 // change nothing.
 #include "globe_run.hpp"
-#include "hapi_eskf/slam_backend.hpp"
+#include "hapi_eskf/slam_backend_factory.hpp"
 
 #include <gtest/gtest.h>
 

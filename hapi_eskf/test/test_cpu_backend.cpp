@@ -1,7 +1,8 @@
 // Eigen backend against a dense textbook EKF and its bookkeeping invariants
 // (storage contract of covariance_backend.hpp).
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/removal_plan.hpp"
+#include "hapi_eskf/backend/removal_plan.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "test_random.hpp"
 

@@ -4,7 +4,8 @@
 // parity tests, on the sequences of backend_sequence.hpp.
 #include "backend_sequence.hpp"
 
-#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Eskf host logic: settings, bad frames (exact no-op), pool policy, reports,
 // prediction entry points and association rules.
-#include "hapi_eskf/association.hpp"
+#include "hapi_eskf/backend/association.hpp"
 #include "basic_settings.hpp"
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #include "sim_scenario.hpp"
 
 #include <gtest/gtest.h>

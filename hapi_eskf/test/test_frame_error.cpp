@@ -8,8 +8,8 @@
 //    one (the spare rows change no bookkeeping);
 //  * with a frame error the filter still tracks the inertial trajectory.
 #include "basic_settings.hpp"
-#include "hapi_eskf/eskf.hpp"
-#include "hapi_eskf/frame_error_block.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/frame_error_block.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "inertial_scenario.hpp"
 

@@ -5,7 +5,7 @@
 // filter's own map.
 #include "bad_frames.hpp"
 #include "globe_run.hpp"
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/graph/batch_refinement.hpp"
 #include "hapi_eskf/graph/eskf_recording.hpp"
 #include "hapi_eskf/graph/graph_slam.hpp"

@@ -8,9 +8,9 @@
 //    the pose follows the truth and the bias estimates end within 3 sigma,
 //    also with first-estimate Jacobians.
 #include "basic_settings.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/inertial_alignment.hpp"
 #include "hapi_eskf/random_draw.hpp"
-#include "hapi_eskf/eskf.hpp"
-#include "hapi_eskf/inertial_alignment.hpp"
 #include "inertial_scenario.hpp"
 
 #include <gtest/gtest.h>

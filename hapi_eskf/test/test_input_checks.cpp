@@ -1,7 +1,7 @@
 // The input checks written once for every stage: the covariance test
 // (covariance_checks.hpp) and CovarianceBackend's validating public methods,
 // which must reject bad input before any implementation runs.
-#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/covariance_checks.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,9 @@
-// Every analytic Jacobian of jacobians.hpp against central finite differences
+// Every analytic Jacobian of backend/measurement_model.hpp and
+// backend/pose_kinematics.hpp against central finite differences
 // on the manifold (docs/DESIGN.md "Jacobian checks").
 // Error convention: R = R^ Exp(dtheta), the others additive.
-#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
+#include "hapi_eskf/backend/pose_kinematics.hpp"
 #include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/so3.hpp"
 

@@ -1,7 +1,7 @@
 // The pool's eviction policy (landmark_book.hpp), on the book alone: least
 // recently seen first, and with full_pool_keep_observations the often
 // observed landmarks last, whatever their age.
-#include "hapi_eskf/landmark_book.hpp"
+#include "hapi_eskf/backend/landmark_book.hpp"
 
 #include <gtest/gtest.h>
 

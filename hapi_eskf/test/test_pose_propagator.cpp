@@ -3,8 +3,8 @@
 // outputs), for the gyro and the inertial model, and reject what the filter
 // rejects; after a frame in which the scene moved, it follows the surface
 // (the frame-to-frame camera motion) instead of the IMU.
-#include "hapi_eskf/eskf.hpp"
-#include "hapi_eskf/pose_propagator.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/pose_propagator.hpp"
 #include "sim_scenario.hpp"
 
 #include <gtest/gtest.h>

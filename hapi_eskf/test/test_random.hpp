@@ -2,7 +2,7 @@
 // the CPU-vs-GPU parity tests draw from the same generator).
 #pragma once
 
-#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/random_draw.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "hapi_eskf/types.hpp"

@@ -3,10 +3,10 @@
 // Mahalanobis gate accepts when the predicted pose is uncertain are rejected
 // by the RANSAC rigid fit, correct ones are kept.
 #include "basic_settings.hpp"
+#include "hapi_eskf/backend/association.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/random_draw.hpp"
-#include "hapi_eskf/association.hpp"
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/eskf.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "sim_scenario.hpp"
 

@@ -5,7 +5,7 @@
 // with it, the velocity mean is zeroed, the frames without a map fit are held
 // back, and the pose mean moves to the RANSAC fit of the first supported frame.
 #include "basic_settings.hpp"
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #include "sim_scenario.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The slot plan of a removal (removal_plan.hpp), pinned with hand-worked
 // cases: every backend, the filter's host mirror and the benchmark follow it.
-#include "hapi_eskf/removal_plan.hpp"
+#include "hapi_eskf/backend/removal_plan.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,10 +4,10 @@
 // within its bound, its covariances PSD; bad input leaves it unchanged. The
 // sparsification step against the textbook formula.
 #include "basic_settings.hpp"
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/seif/seif_storage.hpp"
 #include "hapi_eskf/seif/sparsification.hpp"
-#include "hapi_eskf/slam_backend.hpp"
+#include "hapi_eskf/slam_backend_factory.hpp"
 #include "sim_scenario.hpp"
 
 #include <Eigen/Eigenvalues>

@@ -3,8 +3,8 @@
 // consistency: the average NEES of the 6-dof pose over >= 30 Monte-Carlo runs
 // lies in the 95 % chi^2 interval.
 #include "basic_settings.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/random_draw.hpp"
-#include "hapi_eskf/eskf.hpp"
 #include "sim_scenario.hpp"
 
 #include <gtest/gtest.h>

@@ -41,8 +41,8 @@
 // (SlamBackend::settle()), so the figures are those of a back end whose
 // solver keeps up with the frames and do not depend on the machine's speed;
 // its time is the t_background_ms column and counts in the frame's total.
-#include "hapi_eskf/jacobians.hpp"
-#include "hapi_eskf/slam_backend.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
+#include "hapi_eskf/slam_backend_factory.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "landmark_stream.hpp"
 #include "stream_source.hpp"

@@ -26,11 +26,12 @@
 // --every k processes every k-th frame (simulates a back end that drops frames).
 // --gap START LEN skips the frames in [START, START+LEN) s after the first
 // one (simulates a front-end outage, e.g. a restart).
-#include "hapi_eskf/association.hpp"
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/jacobians.hpp"
-#include "hapi_eskf/eskf.hpp"
-#include "hapi_eskf/pose_propagator.hpp"
+#include "hapi_eskf/backend/association.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/pose_propagator.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 #include "landmark_stream.hpp"
 #include "stream_source.hpp"
 

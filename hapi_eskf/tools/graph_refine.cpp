@@ -17,11 +17,12 @@
 //
 // key=value sets a filter setting (eskf_replay --help lists them),
 // graph.key=value a Graph SLAM setting (graph_settings.def; --help).
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/backend/map_files.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 #include "hapi_eskf/graph/batch_refinement.hpp"
 #include "hapi_eskf/graph/eskf_recording.hpp"
-#include "hapi_eskf/map_files.hpp"
 #include "landmark_stream.hpp"
 
 #include <cstdio>

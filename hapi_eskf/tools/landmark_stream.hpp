@@ -3,7 +3,7 @@
 // ground truth and the scene. Line formats: dump_frames.py's docstring.
 #pragma once
 
-#include "hapi_eskf/motion_model.hpp"
+#include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/types.hpp"
 
 #include <optional>

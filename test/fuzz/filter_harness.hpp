@@ -7,8 +7,9 @@
 // states the filter accepted.
 #pragma once
 
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 
 #include <ros/console.h>
 #include <ros/time.h>

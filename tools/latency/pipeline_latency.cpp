@@ -40,9 +40,9 @@
 #include "stereo_frame_link.hpp"
 
 #include <hapi_dataset/command_line.hpp>
-#include <hapi_eskf/covariance_backend.hpp>
-#include <hapi_eskf/eskf.hpp>
-#include <hapi_eskf/motion_model.hpp>
+#include <hapi_eskf/eskf/storage_factory.hpp>
+#include <hapi_eskf/eskf/eskf.hpp>
+#include <hapi_eskf/eskf/motion_model.hpp>
 #include <hapi_eskf/settings.hpp>
 #include <hapi_frontend/param_spec.hpp>
 #include <hapi_frontend/stereo_pipeline.hpp>

@@ -17,10 +17,10 @@ namespace hapi_eskf {
 enum class BackendAlgorithm { kEskf, kSeif, kGraph, kFastSlam2 };
 enum class BackendKind { kCpu, kCuda };
 enum class Precision { kFp64, kFp32 };  // storage/compute precision of C (CUDA backend)
-// CUDA backend variants (src/cuda/blas_traits.hpp): kAuto chooses by size.
+// CUDA backend variants (src/covariance/cuda/blas_traits.hpp): kAuto chooses by size.
 enum class CudaRankUpdate { kAuto, kSyrk, kPanelGemm, kRecursive };
 enum class CudaSolve { kAuto, kTrsm, kInverse };
-// Dense linear algebra of the CPU backend (src/core/cpu_linear_algebra.hpp):
+// Dense linear algebra of the CPU backend (src/covariance/cpu_linear_algebra.hpp):
 // OpenBLAS/LAPACK (DSYRK, DGEMM, DPOTRF, DTRSM) or Eigen alone.
 enum class CpuLinearAlgebra { kBlas, kEigen };
 // How the covariance absorbs an update (docs/DESIGN.md "Partitioned update"):

@@ -27,7 +27,8 @@ using Mat9 = Eigen::Matrix<double, 9, 9>;
 // (frame_error_block.hpp): at most 18 + 6.
 constexpr int kCameraMotionDim = 12;
 constexpr int kInertialDim = 18;
-constexpr int kMaxPoseDim = 24;
+constexpr int kFrameErrorDim = 6;
+constexpr int kMaxPoseDim = kInertialDim + kFrameErrorDim;
 constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;    // camera state
 constexpr int kIdxBg = 9, kIdxBa = 12, kIdxG = 15;               // inertial state
 inline int landmarkRow(int slot, int pose_dim) { return pose_dim + 3 * slot; }
@@ -72,6 +73,20 @@ struct LandmarkInfo {
   std::array<uint8_t, 3> rgb{{0, 0, 0}};
   int times_observed = 0;
   double last_seen = 0.0;
+};
+
+// One IMU sample, in the IMU frame, stamped on the camera clock (the
+// settings' imu_time_offset already applied: imuSampleOnCameraClock()).
+struct ImuSample {
+  double stamp = 0.0;         // [s]
+  Vec3 gyro = Vec3::Zero();   // angular velocity [rad/s]
+  Vec3 accel = Vec3::Zero();  // specific force [m/s^2] (gravity included, as an accelerometer reads it)
+};
+
+// The left camera frame in the IMU frame: X_imu = R_imu_cam X_cam + p_imu_cam.
+struct CameraExtrinsic {
+  Mat3 R_imu_cam = Mat3::Identity();
+  Vec3 p_imu_cam = Vec3::Zero();  // [m]
 };
 
 // Per-iteration figures for diagnostics and the benchmark (milliseconds).

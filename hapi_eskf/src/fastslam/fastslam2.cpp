@@ -1,7 +1,7 @@
 // The FastSLAM 2.0 filter loop, resampling and outputs (fastslam2.hpp;
 // docs/DESIGN.md "FastSLAM 2.0").
+#include "hapi_eskf/backend/pose_kinematics.hpp"
 #include "hapi_eskf/fastslam/fastslam2.hpp"
-#include "hapi_eskf/jacobians.hpp"
 
 #include "hapi_eskf/so3.hpp"
 

@@ -11,7 +11,7 @@
 // delta = 0, see below).
 #include "hapi_eskf/fastslam/particle.hpp"
 
-#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
 #include "hapi_eskf/so3.hpp"
 
 #include <Eigen/Cholesky>

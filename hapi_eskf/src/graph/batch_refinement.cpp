@@ -1,7 +1,7 @@
 // Full batch refinement and its file output (batch_refinement.hpp).
 #include "hapi_eskf/graph/batch_refinement.hpp"
 
-#include "hapi_eskf/map_files.hpp"
+#include "hapi_eskf/backend/map_files.hpp"
 
 #include <algorithm>
 

@@ -1,8 +1,8 @@
 // Recording of an ES-EKF run as a factor graph (eskf_recording.hpp).
 #include "hapi_eskf/graph/eskf_recording.hpp"
 
-#include "hapi_eskf/association.hpp"
-#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/backend/association.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
 
 #include <unordered_map>
 

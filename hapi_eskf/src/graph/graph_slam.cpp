@@ -11,9 +11,10 @@
 //    their own marginal covariances (bundle_adjustment.hpp).
 #include "hapi_eskf/graph/graph_slam.hpp"
 
-#include "hapi_eskf/associating_backend.hpp"
+#include "hapi_eskf/backend/associating_backend.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
+#include "hapi_eskf/backend/pose_kinematics.hpp"
 #include "hapi_eskf/graph/pose_tracker.hpp"
-#include "hapi_eskf/jacobians.hpp"
 #include "hapi_eskf/so3.hpp"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // Pose-only robust Gauss-Newton (pose_tracker.hpp).
 #include "hapi_eskf/graph/pose_tracker.hpp"
 
-#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
 #include "hapi_eskf/so3.hpp"
 
 #include <Eigen/Cholesky>

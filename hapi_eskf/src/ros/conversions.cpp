@@ -1,6 +1,6 @@
 #include "hapi_eskf/ros/conversions.hpp"
 
-#include "hapi_eskf/motion_model.hpp"
+#include "hapi_eskf/eskf/motion_model.hpp"
 
 #include <sensor_msgs/point_cloud2_iterator.h>
 

@@ -1,8 +1,10 @@
 // hapi_eskf/EskfNodelet: wiring of the node and the worker that owns the
 // filter (eskf_nodelet.hpp says what runs on which thread).
+#include "hapi_eskf/eskf/storage_factory.hpp"
 #include "hapi_eskf/ros/eskf_nodelet.hpp"
 
 #include "hapi_eskf/ros/conversions.hpp"
+#include "hapi_eskf/slam_backend_factory.hpp"
 
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/Odometry.h>
@@ -259,14 +261,14 @@ void EskfNodelet::resetFilter() {
   trajectory_->clear(last_stamp_);
   output_->restart();
   tf_buffer_->clear();  // after a bag loop its data lies in the "future" of the new timeline
-  if (eskf_) eskf_->reset(PoseState(), 0.0);  // empties the pool now: the map snapshot below is empty
+  if (backend_) backend_->reset(PoseState(), 0.0);  // empties the pool now: the map snapshot below is empty
   refiner_->clear();
   takeSnapshot();
   NODELET_WARN("filter reset (#%llu): path and map cleared", static_cast<unsigned long long>(resets));
 }
 
 bool EskfNodelet::ensureFilter(const Work& w) {
-  if (eskf_) return true;
+  if (backend_) return true;
   if (w.frame.measurements.empty()) return false;  // the descriptor length is not known yet
   std::string err;
   const bool cuda = params_.filter.backend_algorithm == BackendAlgorithm::kEskf &&
@@ -284,11 +286,11 @@ bool EskfNodelet::ensureFilter(const Work& w) {
          toString(params_.filter.backend) + "): " + err);
     return false;
   }
-  eskf_ = std::move(backend);
-  refiner_->attach(eskf_.get());
-  stats_->recordBackend(eskf_->storage(), eskf_->memoryBytes());
-  NODELET_INFO("filter created: algorithm %s, storage %s, %.1f MiB, descriptor length %d", eskf_->name(),
-               eskf_->storage().c_str(), eskf_->memoryBytes() / ros_glue::kBytesPerMiB, w.frame.descriptor_length);
+  backend_ = std::move(backend);
+  refiner_->attach(backend_.get());
+  stats_->recordBackend(backend_->storage(), backend_->memoryBytes());
+  NODELET_INFO("filter created: algorithm %s, storage %s, %.1f MiB, descriptor length %d", backend_->name(),
+               backend_->storage().c_str(), backend_->memoryBytes() / ros_glue::kBytesPerMiB, w.frame.descriptor_length);
   return true;
 }
 
@@ -318,7 +320,7 @@ void EskfNodelet::applyImu(double up_to) {
   if (!extrinsic_applied_) {
     const std::optional<CameraExtrinsic> e = imu_->extrinsic();
     if (!e) return;  // no sample accepted yet: nothing to apply either
-    const Status st = eskf_->setCameraExtrinsic(*e);
+    const Status st = backend_->setCameraExtrinsic(*e);
     if (st != Status::kOk) {
       ++stats_->counters.filter_errors;
       NODELET_ERROR_THROTTLE(2.0, "camera-IMU extrinsic from TF rejected: %s (IMU not used)", toString(st));
@@ -327,8 +329,8 @@ void EskfNodelet::applyImu(double up_to) {
     extrinsic_applied_ = true;
   }
   for (const ros_glue::TimedImuSample& s : imu_->takeUpTo(up_to)) {
-    if (s.sample.stamp <= eskf_->time()) continue;  // older than the filter: nothing to predict
-    const Status st = eskf_->addImu(s.sample);
+    if (s.sample.stamp <= backend_->time()) continue;  // older than the filter: nothing to predict
+    const Status st = backend_->addImu(s.sample);
     if (st == Status::kOk) {
       ++stats_->counters.imu_used;
     } else {
@@ -347,7 +349,7 @@ bool EskfNodelet::process(Work& w) {
   IterationReport rep;
   if (need_init_) {
     if (!anchorWorld(w)) return false;
-    st = eskf_->reset(PoseState(), stamp);
+    st = backend_->reset(PoseState(), stamp);
     if (st == Status::kBackendError) return onBackendFault(stamp);
     if (st != Status::kOk) {
       ++count.filter_errors;
@@ -361,11 +363,11 @@ bool EskfNodelet::process(Work& w) {
   }
   const ros::WallTime t0 = ros::WallTime::now();
   if (w.frame.measurements.empty()) {
-    st = eskf_->predictTo(stamp);  // nothing seen: keep the motion model running
+    st = backend_->predictTo(stamp);  // nothing seen: keep the motion model running
     rep.t_total_ms = rep.t_predict_ms = (ros::WallTime::now() - t0).toSec() * 1e3;
-    rep.n_landmarks = eskf_->numLandmarks();
+    rep.n_landmarks = backend_->numLandmarks();
   } else {
-    st = refiner_->processFrame(*eskf_, w.frame, &rep);  // recorded for ~refine when the ES-EKF runs
+    st = refiner_->processFrame(*backend_, w.frame, &rep);  // recorded for ~refine when the ES-EKF runs
   }
   if (st == Status::kBackendError) return onBackendFault(stamp);
   fault_policy_.onSuccess();
@@ -402,10 +404,10 @@ bool EskfNodelet::process(Work& w) {
     ++count.update_skips;
     NODELET_WARN_THROTTLE(1.0, "update skipped at %.3f (innovation covariance not PD): prediction only", stamp);
   }
-  stats_->recordFrame(rep, eskf_->numLandmarks(), eskf_->memoryBytes());
+  stats_->recordFrame(rep, backend_->numLandmarks(), backend_->memoryBytes());
   last_stamp_ = w.stamp;
   const ros_glue::CameraInMap T_map_cam =
-      output_->publishFrame(w.stamp, w.frame_id, *eskf_, rep.scene_moving);
+      output_->publishFrame(w.stamp, w.frame_id, *backend_, rep.scene_moving);
   // The correction is in the outputs now (with an IMU model: in the samples
   // publishFrame caught up, or the next one).
   stats_->recordLatency((ros::Time::now() - w.stamp).toSec());
@@ -417,12 +419,12 @@ bool EskfNodelet::onBackendFault(double stamp) {
   ros_glue::NodeletStatistics::Counters& count = stats_->counters;
   ++count.filter_errors;
   ++count.backend_faults;
-  const std::string what = eskf_->storage() + ": " + eskf_->lastError();
+  const std::string what = backend_->storage() + ": " + backend_->lastError();
   stats_->recordFilterError("backend fault: " + what);
   const FaultAction action = fault_policy_.onFault(params_.filter.backend);
   NODELET_ERROR("backend fault in the frame at %.3f (%s): frame dropped, filter and map discarded; %s", stamp,
                 what.c_str(), toString(action));
-  eskf_.reset();  // never continued on a backend whose state is not trusted
+  backend_.reset();  // never continued on a backend whose state is not trusted
   resetFilter();  // path, map and IMU buffer cleared; the next frame starts a new filter
   if (action == FaultAction::kFallBackToCpu) {
     NODELET_WARN("*** repeated CUDA backend faults: FALLING BACK TO THE CPU BACKEND ***");
@@ -444,8 +446,8 @@ void EskfNodelet::stop(const std::string& why) {
 void EskfNodelet::takeSnapshot() {
   map_->takeSnapshot(
       [this] {
-        if (!eskf_ || need_init_) return std::vector<ros_glue::MapPoint>{};
-        return ros_glue::toMapPoints(eskf_->landmarks(), output_->mapFromWorld());
+        if (!backend_ || need_init_) return std::vector<ros_glue::MapPoint>{};
+        return ros_glue::toMapPoints(backend_->landmarks(), output_->mapFromWorld());
       },
       last_stamp_);
 }

@@ -1,8 +1,8 @@
 // ~refine: the batch refinement of the live run (graph_refiner.hpp).
 #include "hapi_eskf/ros/graph_refiner.hpp"
 
-#include "hapi_eskf/eskf.hpp"
-#include "hapi_eskf/map_files.hpp"
+#include "hapi_eskf/backend/map_files.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #ifdef HAPI_ESKF_WITH_GRAPH
 #include "hapi_eskf/graph/batch_refinement.hpp"
 #include "hapi_eskf/graph/eskf_recording.hpp"

@@ -4,9 +4,9 @@
 // an error return leaves Omega and xi unchanged.
 #include "hapi_eskf/seif/seif_storage.hpp"
 
-#include "hapi_eskf/frame_error_block.hpp"
-#include "hapi_eskf/motion_model.hpp"
-#include "hapi_eskf/removal_plan.hpp"
+#include "hapi_eskf/backend/removal_plan.hpp"
+#include "hapi_eskf/eskf/frame_error_block.hpp"
+#include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/seif/sparsification.hpp"
 
 #include <Eigen/Cholesky>

@@ -3,8 +3,8 @@
 // CPU reference and the CUDA backend and compares their full states.
 #pragma once
 
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/cuda/cuda_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/covariance/cuda_backend.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "../test_random.hpp"
 

@@ -3,8 +3,8 @@
 // removals), method by method, bad-input parity, and the FP32 stability check. Every case skips without a CUDA device.
 #include "backend_pair.hpp"
 
-#include "hapi_eskf/frame_error_block.hpp"
-#include "hapi_eskf/removal_plan.hpp"
+#include "hapi_eskf/backend/removal_plan.hpp"
+#include "hapi_eskf/eskf/frame_error_block.hpp"
 
 #include <Eigen/Eigenvalues>
 

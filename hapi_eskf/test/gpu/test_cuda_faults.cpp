@@ -8,8 +8,9 @@
 #include "backend_pair.hpp"
 #include "../basic_settings.hpp"
 
-#include "hapi_eskf/backend_fault_policy.hpp"
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/backend/backend_fault_policy.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 
 #include <cuda_runtime.h>
 

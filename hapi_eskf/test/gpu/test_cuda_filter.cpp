@@ -6,8 +6,9 @@
 #include "../basic_settings.hpp"
 #include "../moving_camera_world.hpp"
 
-#include "hapi_eskf/eskf.hpp"
-#include "hapi_eskf/jacobians.hpp"
+#include "hapi_eskf/backend/pose_kinematics.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 
 namespace hapi_eskf {
 namespace gputest {

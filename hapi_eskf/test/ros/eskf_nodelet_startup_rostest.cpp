@@ -5,7 +5,8 @@
 // GPU is the same start-up failure with ~allow_cpu_fallback:=false and a
 // loudly logged fallback to the CPU backend (reported in /diagnostics)
 // otherwise.
-#include "hapi_eskf/covariance_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/storage_factory.hpp"
 #include "nodelet_observer.hpp"
 #include "synthetic_frames.hpp"
 

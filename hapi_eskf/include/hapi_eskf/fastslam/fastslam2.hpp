@@ -10,8 +10,8 @@
 // not depend on the thread count.
 #pragma once
 
-#include "hapi_eskf/associated_core.hpp"
-#include "hapi_eskf/associated_frame.hpp"
+#include "hapi_eskf/backend/associated_core.hpp"
+#include "hapi_eskf/backend/associated_frame.hpp"
 #include "hapi_eskf/fastslam/fastslam_settings.hpp"
 #include "hapi_eskf/fastslam/particle.hpp"
 #include "hapi_eskf/status.hpp"

@@ -15,7 +15,7 @@
 // counted in mismatchedFrames().
 #pragma once
 
-#include "hapi_eskf/eskf.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/graph/graph_map.hpp"
 #include "hapi_eskf/status.hpp"
 

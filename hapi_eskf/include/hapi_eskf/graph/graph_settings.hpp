@@ -3,8 +3,8 @@
 // parameters) they are graph_<name>, and graphSettings() reads them there.
 #pragma once
 
+#include "hapi_eskf/eskf/frame_error_block.hpp"
 #include "hapi_eskf/field_table.hpp"
-#include "hapi_eskf/frame_error_block.hpp"
 #include "hapi_eskf/graph/robust_loss.hpp"
 #include "hapi_eskf/settings.hpp"
 

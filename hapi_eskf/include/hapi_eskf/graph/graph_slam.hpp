@@ -11,12 +11,12 @@
 // processFrame() holds it for the frame's own work only (never for a solve).
 #pragma once
 
-#include "hapi_eskf/associated_core.hpp"
-#include "hapi_eskf/associated_frame.hpp"
+#include "hapi_eskf/backend/associated_core.hpp"
+#include "hapi_eskf/backend/associated_frame.hpp"
+#include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/graph/graph_map.hpp"
 #include "hapi_eskf/graph/graph_settings.hpp"
 #include "hapi_eskf/graph/window_optimiser.hpp"
-#include "hapi_eskf/slam_backend.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
 

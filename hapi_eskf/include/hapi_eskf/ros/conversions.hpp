@@ -2,7 +2,7 @@
 // handle) so the covariance mapping and the cloud layout are unit-tested.
 #pragma once
 
-#include "hapi_eskf/map_files.hpp"
+#include "hapi_eskf/backend/map_files.hpp"
 #include "hapi_eskf/types.hpp"
 
 #include <geometry_msgs/PoseWithCovariance.h>

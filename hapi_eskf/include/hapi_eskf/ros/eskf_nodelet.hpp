@@ -38,9 +38,9 @@
 // fresh filter.
 #pragma once
 
-#include "hapi_eskf/backend_fault_policy.hpp"
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/slam_backend.hpp"
+#include "hapi_eskf/backend/backend_fault_policy.hpp"
+#include "hapi_eskf/backend/slam_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/ros/graph_refiner.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"
 #include "hapi_eskf/ros/map_publisher.hpp"
@@ -138,7 +138,7 @@ class EskfNodelet : public nodelet::Nodelet {
   std::atomic<bool> stop_{false};
 
   // Worker-owned filter state.
-  std::unique_ptr<SlamBackend> eskf_;
+  std::unique_ptr<SlamBackend> backend_;
   BackendFaultPolicy fault_policy_{true};  // set from ~allow_cpu_fallback at start-up
   bool stopped_ = false;
   bool need_init_ = true;

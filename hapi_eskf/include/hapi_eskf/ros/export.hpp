@@ -3,7 +3,7 @@
 // nodelet's code names them in its own namespace.
 #pragma once
 
-#include "hapi_eskf/map_files.hpp"
+#include "hapi_eskf/backend/map_files.hpp"
 
 namespace hapi_eskf {
 namespace ros_glue {

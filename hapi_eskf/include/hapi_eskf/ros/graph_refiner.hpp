@@ -13,8 +13,8 @@
 // graph grows with the run (every filter observation is kept).
 #pragma once
 
+#include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/ros/params.hpp"
-#include "hapi_eskf/slam_backend.hpp"
 
 #include <std_srvs/Trigger.h>
 

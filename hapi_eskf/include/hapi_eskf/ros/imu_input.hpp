@@ -16,7 +16,7 @@
 // lock, taken inside mu_).
 #pragma once
 
-#include "hapi_eskf/motion_model.hpp"
+#include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/ros/params.hpp"
 #include "hapi_eskf/ros/statistics.hpp"
 #include "hapi_eskf/types.hpp"

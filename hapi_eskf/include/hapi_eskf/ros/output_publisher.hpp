@@ -10,10 +10,10 @@
 // callback (publishImuRate). mu_ guards everything.
 #pragma once
 
+#include "hapi_eskf/eskf/pose_propagator.hpp"
 #include "hapi_eskf/ros/conversions.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"
 #include "hapi_eskf/ros/params.hpp"
-#include "hapi_eskf/pose_propagator.hpp"
 #include "hapi_eskf/ros/statistics.hpp"
 
 #include <ros/publisher.h>

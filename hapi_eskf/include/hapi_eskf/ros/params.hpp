@@ -7,7 +7,7 @@
 // default (checked by test/ros/params_rostest.cpp).
 #pragma once
 
-#include "hapi_eskf/motion_model.hpp"
+#include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/settings.hpp"
 
 #include <hapi_nodelet_kit/param_reader.hpp>

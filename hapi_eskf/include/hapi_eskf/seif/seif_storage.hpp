@@ -25,8 +25,8 @@
 // stays active, and the SEIF equals the ES-EKF to rounding.
 #pragma once
 
-#include "hapi_eskf/covariance_backend.hpp"
-#include "hapi_eskf/descriptor_pool.hpp"
+#include "hapi_eskf/backend/descriptor_pool.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/seif/information_matrix.hpp"
 
 #include <memory>

@@ -1,0 +1,158 @@
+// The error-state EKF over the motion model's pose block + landmark pool
+// (docs/DESIGN.md "Filter"). Host side: nominal state, landmark bookkeeping
+// (LandmarkBook), Jacobians, the shared association (association.hpp) and
+// relocalisation (relocaliser.hpp). The covariance and the descriptors live
+// in a CovarianceBackend (CPU or GPU; the SEIF's information storage,
+// seif/seif_storage.hpp, behind the same contract); the pose block is the
+// MotionModel's (motion_model.hpp). One SlamBackend (slam_backend.hpp):
+// backend_algorithm eskf, and seif with the information storage.
+//
+// One processFrame() = predict to the frame stamp -> associate (descriptor
+// best/second-best + ratio test, RANSAC rigid fit, Mahalanobis gate) -> IMU
+// and vision agreement (scene_motion_monitor.hpp) -> joint update with at
+// most max_update_landmarks -> remove (stale landmarks when the pool would
+// overflow) -> add at most max_new_landmarks unmatched measurements.
+#pragma once
+
+#include "hapi_eskf/backend/landmark_book.hpp"
+#include "hapi_eskf/backend/relocaliser.hpp"
+#include "hapi_eskf/backend/slam_backend.hpp"
+#include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/frame_error_block.hpp"
+#include "hapi_eskf/eskf/motion_model.hpp"
+#include "hapi_eskf/eskf/scene_motion_monitor.hpp"
+#include "hapi_eskf/settings.hpp"
+#include "hapi_eskf/status.hpp"
+#include "hapi_eskf/types.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace hapi_eskf {
+
+class Eskf final : public SlamBackend {
+ public:
+  // The backend's capacity must equal settings.max_landmarks and its pose
+  // block the filter's (filterPoseDim: the motion model's, plus the
+  // frame-error rows when modelled). `extrinsic`
+  // is the camera in the IMU frame (models with IMU; setCameraExtrinsic()
+  // changes it later).
+  Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend,
+       const CameraExtrinsic& extrinsic = CameraExtrinsic());
+
+  // Clears the pool; the camera starts at `initial` with the initial sigmas
+  // of the settings. The next frame must have stamp >= `stamp`. The inertial
+  // model then first aligns to gravity (addImu(), inertial_alignment.hpp):
+  // until alignment_window of samples arrived, frames return kAwaitingImu
+  // and `initial` is replaced by the gravity-aligned start. The constructor
+  // resets to the identity pose at 0; until a reset succeeds (invalid
+  // settings, backend capacity or pose block mismatch) every other operation
+  // returns kNotInitialised (kBackendUnavailable without a backend).
+  Status reset(const PoseState& initial, double stamp) override;
+
+  // The camera in the IMU frame. The camera pose is kept (the inertial
+  // model's body pose moves with the new extrinsic). kNonFinite,
+  // kInvalidArgument (R not a rotation).
+  Status setCameraExtrinsic(const CameraExtrinsic& extrinsic) override;
+
+  // Prediction without a new IMU sample to `stamp` (no-op when stamp ==
+  // current; constant velocity, or the inertial model's last sample held).
+  // kInvalidArgument when stamp is earlier than the filter time.
+  Status predictTo(double stamp) override;
+
+  // One IMU sample (IMU frame, stamp on the camera clock:
+  // imuSampleOnCameraClock). Its covariance step is chained with the other
+  // samples' and reaches the backend with the next frame or predictTo()
+  // (poseCovariance() includes it at once). constant_velocity: kInvalidArgument (no IMU in
+  // the model). gyro and inertial: a prediction step to the sample's stamp
+  // with it (motion_model.hpp predictStep); before the inertial model is
+  // aligned the sample goes to the alignment window instead. kNonFinite,
+  // kInvalidArgument (stamp before the filter time); state unchanged on error.
+  Status addImu(const ImuSample& sample) override;
+
+  // One filter iteration. On any input error (kNonFinite, kDuplicateId,
+  // kCapacityExceeded, kInvalidArgument, kEmptyInput for a frame without
+  // measurements, kNotPositiveDefinite for a non-PD measurement covariance,
+  // kAwaitingImu before the inertial alignment) the state is unchanged. The
+  // one exception is a joint innovation covariance S found not PD inside the
+  // update: the update is skipped (report->update_skipped), the prediction
+  // and bookkeeping still apply, and kNotPositiveDefinite is returned (see
+  // src/eskf/eskf.cpp).
+  Status processFrame(const StereoFrame& frame, IterationReport* report = nullptr) override;
+
+  // The left camera: pose in the world, camera-frame velocities.
+  PoseState pose() const override { return model_->camera(state_); }
+  // The camera as the last processed frame saw it, from which its new
+  // landmarks were placed (m = p + R z): pose() plus the estimate of the
+  // frame's shared vision error (frame_error_block.hpp); pose() when none is
+  // modelled or the frame had no update.
+  const PoseState& frameCamera() const { return frame_camera_; }
+  // Its covariance in the camera-state layout [dp, dtheta, dv, dw] (12 x 12),
+  // mapped from the state's (MotionModel::cameraStateJacobian).
+  Mat12 cameraCovariance() const override;
+  Mat6 cameraPoseCovariance() const override { return cameraCovariance().topLeftCorner<6, 6>(); }
+  // The motion model's pose block of the state covariance (P x P).
+  PoseMat poseCovariance() const;
+  const NominalState& state() const { return state_; }
+  const MotionModel& motionModel() const { return *model_; }
+  bool awaitingAlignment() const { return awaiting_alignment_; }
+  double time() const override { return time_; }
+  int numLandmarks() const override { return book_.size(); }
+  std::vector<LandmarkInfo> landmarks() const override;  // with marginal covariances
+  const std::vector<Vec3>& landmarkPositions() const { return book_.positions(); }
+  const std::vector<uint64_t>& landmarkIds() const { return book_.ids(); }
+  const EskfSettings& settings() const { return settings_; }
+  const CovarianceBackend& backend() const { return *backend_; }
+  CovarianceBackend& mutableBackend() { return *backend_; }  // tests and benchmark
+
+  // SlamBackend: the algorithm is the settings' backend_algorithm (eskf, or
+  // seif with the information storage), the storage the backend's name.
+  const char* name() const override { return toString(settings_.backend_algorithm); }
+  std::string storage() const override { return backend_ ? backend_->name() : "none"; }
+  std::string lastError() const override { return backend_ ? backend_->lastError() : std::string(); }
+  std::size_t memoryBytes() const override { return backend_ ? backend_->memoryBytes() : 0; }
+  bool supportsImu() const override { return model_->usesImu(); }
+  bool poseBlockState(PoseBlockState* out) const override;
+
+ private:
+  // Internal steps, exposed to tests through the public API only.
+  Status checkFrame(const StereoFrame& frame) const;
+  // Re-detection covariance added to C_z (EskfSettings::measurement_angular_sigma).
+  Mat3 redetectionCovariance(const Vec3& z) const;
+  Status predictStepTo(double stamp, const ImuSample* imu);
+  Status flushPrediction();  // the chained steps into the backend's C
+  void clearPendingPrediction();
+  // First estimates of the pose block (settings first_estimate_jacobians):
+  // restart at the current state (after a reset, an alignment or a move of
+  // the means), or follow a committed prediction step (gravity keeps its
+  // first estimate).
+  void restartFirstEstimates() { lin_ = state_; }
+  void advanceFirstEstimates();
+  Status align();
+
+  EskfSettings settings_;
+  std::unique_ptr<CovarianceBackend> backend_;
+  std::unique_ptr<MotionModel> model_;
+  FrameErrorBlock frame_error_;
+  NominalState state_;
+  PoseState frame_camera_;  // frameCamera()
+  // The pose block's first estimates (docs/DESIGN.md "First-estimate
+  // Jacobians"): the state as predicted, not corrected since; gravity as
+  // first estimated.
+  NominalState lin_;
+  double time_ = 0.0;
+  // Prediction steps not yet applied to the backend's C (predictStepTo):
+  // their chained transition and noise; poseCovariance() includes them.
+  PoseMat pending_F_, pending_Q_;
+  bool pending_steps_ = false;
+  bool initialised_ = false;
+  // Inertial model: samples collected for the gravity alignment until it is done.
+  bool awaiting_alignment_ = false;
+  std::vector<ImuSample> alignment_samples_;
+  bool velocity_measured_ = false;  // PoseBlockState::velocity_measured
+  SceneMotionMonitor scene_motion_;
+  Relocaliser relocaliser_;
+  LandmarkBook book_;  // per slot, same order as the backend's slots
+};
+
+}  // namespace hapi_eskf

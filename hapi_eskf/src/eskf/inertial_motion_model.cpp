@@ -1,0 +1,210 @@
+// The inertial motion model (motion_model.hpp, docs/DESIGN.md "Inertial
+// prediction"): the IMU body state [p, theta, v, b_g, b_a, g] with the
+// standard quaternion ES-EKF step, and the left camera seen through the
+// camera-IMU extrinsic. Error convention as everywhere in the filter:
+//   p = p^ + dp, R = R^ Exp(dtheta), v = v^ + dv, b = b^ + db, g = g^ + dg.
+// Every Jacobian is checked against central finite differences in
+// test/test_motion_models.cpp.
+#include "hapi_eskf/eskf/motion_model.hpp"
+#include "motion_models.hpp"
+#include "hapi_eskf/so3.hpp"
+
+namespace hapi_eskf {
+namespace {
+
+using Mat12xP = Eigen::Matrix<double, 12, Eigen::Dynamic>;
+
+class InertialMotionModel final : public MotionModel {
+ public:
+  InertialMotionModel(const EskfSettings& s, const CameraExtrinsic& e) : MotionModel(e), s_(s) {}
+
+  MotionModelKind kind() const override { return MotionModelKind::kInertial; }
+  int poseDim() const override { return kInertialDim; }
+  bool usesImu() const override { return true; }
+
+  // Body at rest under the camera, gravity straight down the world z axis
+  // (the alignment, inertial_alignment.hpp, sets the real start).
+  NominalState fromCamera(const PoseState& camera) const override {
+    NominalState x;
+    moveCameraTo(&x, camera.p, camera.q);
+    x.g = Vec3(0, 0, -s_.gravity_magnitude);
+    return x;
+  }
+
+  PoseMat initialCovariance() const override {
+    PoseMat C = PoseMat::Zero(kInertialDim, kInertialDim);
+    auto var = [&](int idx, double sigma) { C.diagonal().segment<3>(idx).setConstant(sigma * sigma); };
+    var(kIdxP, s_.initial_sigma_position);
+    var(kIdxTheta, s_.initial_sigma_orientation);
+    var(kIdxV, s_.initial_sigma_velocity);
+    var(kIdxBg, s_.initial_sigma_gyro_bias);
+    var(kIdxBa, s_.initial_sigma_accel_bias);
+    var(kIdxG, s_.initial_sigma_gravity);
+    return C;
+  }
+
+  // R_wc = R_wb R_bc, p_wc = p + R_wb p_bc; the camera's angular rate is the
+  // body's (w - b_g) in camera axes; its velocity adds the lever arm,
+  // v_wc = v + R_wb (omega x p_bc).
+  PoseState camera(const NominalState& x) const override {
+    const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = extrinsic_.R_imu_cam;
+    const Vec3& p_bc = extrinsic_.p_imu_cam;
+    const Vec3 omega = rate(x);
+    PoseState c;
+    c.q = (x.q * Eigen::Quaterniond(R_bc)).normalized();
+    c.p = x.p + R_wb * p_bc;
+    c.w = R_bc.transpose() * omega;
+    c.v = (R_wb * R_bc).transpose() * (x.v + R_wb * omega.cross(p_bc));
+    return c;
+  }
+
+  // dp_c     = dp - R_wb [p_bc]x dtheta
+  // dtheta_c = R_bc^T dtheta
+  // dv_c     = R_bc^T [R_wb^T v]x dtheta + R_bc^T R_wb^T dv + R_bc^T [p_bc]x db_g
+  // dw_c     = -R_bc^T db_g
+  // (without a sample the reported rate is 0, independent of b_g).
+  Mat12xP cameraStateJacobian(const NominalState& x) const override {
+    const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = extrinsic_.R_imu_cam;
+    const Vec3& p_bc = extrinsic_.p_imu_cam;
+    const Mat3 Rcb = R_bc.transpose();
+    Mat12xP T = Mat12xP::Zero(12, kInertialDim);
+    T.block<3, 3>(0, kIdxP).setIdentity();
+    T.block<3, 3>(0, kIdxTheta) = -R_wb * skew(p_bc);
+    T.block<3, 3>(3, kIdxTheta) = Rcb;
+    T.block<3, 3>(6, kIdxTheta) = Rcb * skew(R_wb.transpose() * x.v);
+    T.block<3, 3>(6, kIdxV) = Rcb * R_wb.transpose();
+    if (x.has_imu) {
+      T.block<3, 3>(6, kIdxBg) = Rcb * skew(p_bc);
+      T.block<3, 3>(9, kIdxBg) = -Rcb;
+    }
+    return T;
+  }
+
+  void moveCameraTo(NominalState* x, const Vec3& p, const Eigen::Quaterniond& q) const override {
+    x->q = (q * Eigen::Quaterniond(extrinsic_.R_imu_cam).conjugate()).normalized();
+    x->p = p - x->q.toRotationMatrix() * extrinsic_.p_imu_cam;
+  }
+
+  void stop(NominalState* x) const override { x->v.setZero(); }
+  // v is the body's world-frame velocity; the camera's displacement is the
+  // body's (rotation changes are taken by the pose).
+  void correctVelocity(NominalState* x, const Vec3& dp_world, double dt) const override { x->v += dp_world / dt; }
+
+  // With the sample (the midpoint of it and the previous one, or the last
+  // one held; before any sample, a sample of a body at rest):
+  // omega = w_m - b_g, a = f_m - b_a, a_w = R a + g,
+  //   p' = p + v dt + a_w dt^2 / 2,  v' = v + a_w dt,  R' = R Exp(omega dt).
+  // Error state, first order:
+  //   dp'     = dp + dv dt + (-R [a]x dtheta - R db_a + dg) dt^2 / 2
+  //   dv'     = dv + (-R [a]x dtheta - R db_a + dg) dt
+  //   dtheta' = Exp(omega dt)^T dtheta - J_r(omega dt) dt db_g
+  // Noise: accelerometer white noise n_a (its mean over dt has variance
+  // n_a^2 / dt) enters v as -R dt and p as -R dt^2 / 2; gyro noise n_g
+  // enters theta as -J_r dt; the biases random-walk.
+  void step(const NominalState& x, double dt, const ImuSample* imu, NominalState* next, PoseMat* F,
+            PoseMat* Q) const override {
+    *next = x;
+    const Mat3 R = x.q.toRotationMatrix();
+    Vec3 w_m, f_m;
+    if (imu != nullptr) {
+      // Midpoint rule: the sample at the end of the step and the previous
+      // one average to the rate at the step's middle (second-order accurate;
+      // the end sample alone lags half a sample period, which in 8-12 Hz
+      // tremor and 1-3 Hz sway is a mm-level error per frame at 200 Hz).
+      w_m = x.has_imu ? Vec3(0.5 * (x.w + imu->gyro)) : imu->gyro;
+      f_m = x.has_imu ? Vec3(0.5 * (x.f + imu->accel)) : imu->accel;
+      next->w = imu->gyro;
+      next->f = imu->accel;
+      next->has_imu = true;
+    } else if (x.has_imu) {
+      w_m = x.w;
+      f_m = x.f;
+    } else {
+      w_m = x.b_g;
+      f_m = x.b_a - R.transpose() * x.g;
+    }
+    const Vec3 omega = w_m - x.b_g, a = f_m - x.b_a;
+    const Vec3 a_w = R * a + x.g;
+    const double dt2 = 0.5 * dt * dt;
+    next->p = x.p + x.v * dt + a_w * dt2;
+    next->v = x.v + a_w * dt;
+    next->q = (x.q * quatExp(omega * dt)).normalized();
+
+    const Mat3 I = Mat3::Identity(), Ra = -R * skew(a), Jr = rightJacobianSO3(omega * dt);
+    *F = PoseMat::Identity(kInertialDim, kInertialDim);
+    F->block<3, 3>(kIdxP, kIdxTheta) = Ra * dt2;
+    F->block<3, 3>(kIdxP, kIdxV) = I * dt;
+    F->block<3, 3>(kIdxP, kIdxBa) = -R * dt2;
+    F->block<3, 3>(kIdxP, kIdxG) = I * dt2;
+    F->block<3, 3>(kIdxV, kIdxTheta) = Ra * dt;
+    F->block<3, 3>(kIdxV, kIdxBa) = -R * dt;
+    F->block<3, 3>(kIdxV, kIdxG) = I * dt;
+    F->block<3, 3>(kIdxTheta, kIdxTheta) = expSO3(omega * dt).transpose();
+    F->block<3, 3>(kIdxTheta, kIdxBg) = -Jr * dt;
+
+    const double na2 = s_.accel_noise_density * s_.accel_noise_density;
+    const double ng2 = s_.gyroProcessNoiseDensity() * s_.gyroProcessNoiseDensity();
+    *Q = PoseMat::Zero(kInertialDim, kInertialDim);
+    Q->block<3, 3>(kIdxP, kIdxP) = I * (na2 * dt * dt * dt / 4.0);
+    Q->block<3, 3>(kIdxP, kIdxV) = I * (na2 * dt * dt / 2.0);
+    Q->block<3, 3>(kIdxV, kIdxP) = I * (na2 * dt * dt / 2.0);
+    Q->block<3, 3>(kIdxV, kIdxV) = I * (na2 * dt);
+    Q->block<3, 3>(kIdxTheta, kIdxTheta) = Jr * Jr.transpose() * (ng2 * dt);
+    Q->block<3, 3>(kIdxBg, kIdxBg) = I * (s_.gyro_random_walk * s_.gyro_random_walk * dt);
+    Q->block<3, 3>(kIdxBa, kIdxBa) = I * (s_.accel_random_walk * s_.accel_random_walk * dt);
+  }
+
+  // First estimates (docs/DESIGN.md "First-estimate Jacobians"): with the
+  // global rotation's null space N = [dp -[p]x, dtheta R^T, dv -[v]x,
+  // dg -[g]x] at (p, R, v, g), F N(lin) = N(next) needs
+  //   F_thth = R_next^T R_lin,
+  //   F_vth  = -[v_next - v_lin - g_lin dt]x R_lin,
+  //   F_pth  = -[p_next - p_lin - v_lin dt - g_lin dt^2 / 2]x R_lin,
+  // which equal step()'s blocks when lin is the step's start; the bias
+  // columns take R_lin as well.
+  void firstEstimateTransition(const NominalState& lin, const NominalState& next, double dt,
+                               PoseMat* F) const override {
+    const Mat3 R = lin.q.toRotationMatrix(), Rn = next.q.toRotationMatrix();
+    const double dt2 = 0.5 * dt * dt;
+    const Vec3 dv = next.v - lin.v - lin.g * dt;
+    const Vec3 dp = next.p - lin.p - lin.v * dt - lin.g * dt2;
+    F->block<3, 3>(kIdxTheta, kIdxTheta) = Rn.transpose() * R;
+    F->block<3, 3>(kIdxV, kIdxTheta) = -skew(dv) * R;
+    F->block<3, 3>(kIdxP, kIdxTheta) = -skew(dp) * R;
+    F->block<3, 3>(kIdxP, kIdxBa) = -R * dt2;
+    F->block<3, 3>(kIdxV, kIdxBa) = -R * dt;
+  }
+
+  void inject(NominalState* x, const Eigen::Ref<const Eigen::VectorXd>& dx) const override {
+    x->p += dx.segment<3>(kIdxP);
+    x->q = (x->q * quatExp(dx.segment<3>(kIdxTheta))).normalized();
+    x->v += dx.segment<3>(kIdxV);
+    x->b_g += dx.segment<3>(kIdxBg);
+    x->b_a += dx.segment<3>(kIdxBa);
+    x->g += dx.segment<3>(kIdxG);
+  }
+
+  Eigen::VectorXd errorBetween(const NominalState& x, const NominalState& x_hat) const override {
+    Eigen::VectorXd e(kInertialDim);
+    e.segment<3>(kIdxP) = x.p - x_hat.p;
+    e.segment<3>(kIdxTheta) = logSO3((x_hat.q.conjugate() * x.q).toRotationMatrix());
+    e.segment<3>(kIdxV) = x.v - x_hat.v;
+    e.segment<3>(kIdxBg) = x.b_g - x_hat.b_g;
+    e.segment<3>(kIdxBa) = x.b_a - x_hat.b_a;
+    e.segment<3>(kIdxG) = x.g - x_hat.g;
+    return e;
+  }
+
+ private:
+  static Vec3 rate(const NominalState& x) { return x.has_imu ? Vec3(x.w - x.b_g) : Vec3::Zero(); }
+
+  EskfSettings s_;
+};
+
+}  // namespace
+
+std::unique_ptr<MotionModel> makeInertialMotionModel(const EskfSettings& s, const CameraExtrinsic& e) {
+  return std::make_unique<InertialMotionModel>(s, e);
+}
+
+}  // namespace hapi_eskf

@@ -1,0 +1,42 @@
+// Model choice and the IMU clock rule of motion_model.hpp.
+#include "hapi_eskf/eskf/motion_model.hpp"
+
+#include "motion_models.hpp"
+
+namespace hapi_eskf {
+
+std::unique_ptr<MotionModel> makeMotionModel(const EskfSettings& s, const CameraExtrinsic& extrinsic) {
+  switch (s.motion_model) {
+    case MotionModelKind::kInertial:
+      return makeInertialMotionModel(s, extrinsic);
+    case MotionModelKind::kGyro:
+      return makeCameraMotionModel(s, extrinsic, true);
+    case MotionModelKind::kConstantVelocity:
+      break;
+  }
+  return makeCameraMotionModel(s, extrinsic, false);
+}
+
+int poseDim(MotionModelKind kind) { return kind == MotionModelKind::kInertial ? kInertialDim : kCameraMotionDim; }
+
+Mat12 cameraCovariance(const MotionModel& model, const NominalState& x, const PoseMat& C) {
+  const Eigen::Matrix<double, 12, Eigen::Dynamic> T = model.cameraStateJacobian(x);
+  const Mat12 Cc = T * C * T.transpose();
+  return 0.5 * (Cc + Cc.transpose());
+}
+
+Mat6 poseCovarianceInWorldAxes(const PoseState& camera, const Mat12& camera_covariance) {
+  Mat6 J = Mat6::Identity();
+  J.block<3, 3>(3, 3) = camera.q.toRotationMatrix();
+  return J * camera_covariance.topLeftCorner<6, 6>() * J.transpose();
+}
+
+ImuSample imuSampleOnCameraClock(double imu_stamp, const Vec3& gyro, const Vec3& accel, const EskfSettings& s) {
+  ImuSample out;
+  out.stamp = imu_stamp - s.imu_time_offset;
+  out.gyro = gyro;
+  out.accel = accel;
+  return out;
+}
+
+}  // namespace hapi_eskf
