@@ -2,6 +2,8 @@
 // prediction entry points and association rules.
 #include "hapi_eskf/backend/association.hpp"
 #include "basic_settings.hpp"
+#include "hapi_eskf/backend/measurement_model.hpp"
+#include "hapi_eskf/backend/pose_kinematics.hpp"
 #include "hapi_eskf/eskf/eskf.hpp"
 #include "sim_scenario.hpp"
 
@@ -10,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
 
 namespace hapi_eskf {
 namespace {
@@ -278,6 +282,171 @@ TEST(Eskf, RepeatedObservationsOfAStaticSceneShrinkUncertaintyAndAssociate) {
     for (const auto& p : world.points) best = std::min(best, (p - l.position).norm());
     EXPECT_LT(best, 5.0 * std::sqrt(l.covariance.trace()) + 0.05);
   }
+}
+
+// The report says what became of every measurement, and that agrees with
+// the filter's own map: the fused ones name the landmarks whose observation
+// count went up (each started by the same scene point), the added ones the
+// landmarks that are new, placed from the camera the frame saw.
+TEST(Eskf, ReportSaysWhatBecameOfEachMeasurement) {
+  using Result = MeasurementOutcome::Result;
+  EskfSettings s = smallSettings();
+  s.sigma_acceleration = 0.01;
+  s.sigma_angular_acceleration = 0.01;
+  s.measurement_angular_sigma = 2e-3;  // the outcomes carry C_z as the filter used it
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  std::mt19937 rng(5);
+  sim::StereoRig rig;
+  sim::World world = sim::randomWorld(rng, 40, Vec3(-3, -2, 4), Vec3(3, 2, 9));
+  PoseState still;
+  std::map<uint64_t, uint32_t> origin;  // landmark id -> the scene point that started it
+  std::map<Result, int> seen;
+  for (int k = 0; k <= 5; ++k) {
+    const StereoFrame fr = sim::makeFrame(world, still, rig, 0.1 * k, 3, rng);
+    std::map<uint64_t, int> before;  // id -> times observed
+    for (const LandmarkInfo& l : f.landmarks()) before[l.id] = l.times_observed;
+    IterationReport rep;
+    ASSERT_EQ(f.processFrame(fr, &rep), Status::kOk) << k;
+    ASSERT_EQ(rep.measurements.size(), fr.measurements.size()) << k;
+    std::map<uint64_t, LandmarkInfo> after;
+    for (const LandmarkInfo& l : f.landmarks()) after[l.id] = l;
+    std::set<uint64_t> fused, added, observed_more, new_ids;
+    int associated = 0;
+    for (std::size_t i = 0; i < rep.measurements.size(); ++i) {
+      const MeasurementOutcome& o = rep.measurements[i];
+      const StereoMeasurement& m = fr.measurements[i];
+      ++seen[o.result];
+      EXPECT_EQ(o.measurement, static_cast<int>(i));
+      EXPECT_TRUE(o.Cz == m.Cz + redetectionCovariance(m.z, s.measurement_angular_sigma)) << k << " " << i;
+      associated += o.associated;
+      EXPECT_EQ(o.associated, std::isfinite(o.nis)) << k << " " << i;
+      if (o.associated) {
+        EXPECT_TRUE(o.nis >= 0.0 && o.nis <= s.gate_chi2) << o.nis;
+        ASSERT_TRUE(before.count(o.landmark_id)) << "associated with a landmark of the pool";
+        EXPECT_EQ(origin.at(o.landmark_id), m.frontend_id) << "the landmark of the same scene point";
+        EXPECT_TRUE(o.result == Result::kFused || o.result == Result::kNotUpdated);
+      }
+      if (o.fused()) {
+        EXPECT_TRUE(fused.insert(o.landmark_id).second) << "one measurement per landmark";
+      }
+      if (o.added()) {
+        EXPECT_FALSE(o.associated);
+        ASSERT_TRUE(after.count(o.landmark_id));
+        EXPECT_FALSE(before.count(o.landmark_id));
+        EXPECT_EQ(after[o.landmark_id].position, initLandmark(f.frameCamera(), m.z));
+        added.insert(o.landmark_id);
+        origin[o.landmark_id] = m.frontend_id;
+      }
+      if (!o.associated && !o.added()) {
+        EXPECT_EQ(o.landmark_id, 0u);
+        EXPECT_TRUE(o.result == Result::kNotAdded || o.result == Result::kNotAssociated);
+      }
+    }
+    for (const auto& kv : after) {
+      const auto b = before.find(kv.first);
+      if (b == before.end())
+        new_ids.insert(kv.first);
+      else if (kv.second.times_observed > b->second)
+        observed_more.insert(kv.first);
+    }
+    EXPECT_EQ(fused, observed_more) << k;
+    EXPECT_EQ(added, new_ids) << k;
+    EXPECT_EQ(static_cast<int>(fused.size()), rep.n_updated) << k;
+    EXPECT_EQ(static_cast<int>(added.size()), rep.n_added) << k;
+    EXPECT_EQ(rep.n_updated, std::min(s.max_update_landmarks, associated)) << k;
+  }
+  // Every kind of this scene came up: 40 points, 20 added per frame, 15 updated.
+  for (Result r : {Result::kFused, Result::kNotUpdated, Result::kAdded, Result::kNotAdded})
+    EXPECT_GT(seen[r], 0) << static_cast<int>(r);
+
+  // A rejected frame: every measurement says so.
+  IterationReport rep;
+  const StereoFrame late = sim::makeFrame(world, still, rig, 0.0, 3, rng);  // before the filter time
+  ASSERT_EQ(f.processFrame(late, &rep), Status::kInvalidArgument);
+  ASSERT_EQ(rep.measurements.size(), late.measurements.size());
+  for (const MeasurementOutcome& o : rep.measurements) {
+    EXPECT_EQ(o.result, Result::kNotProcessed);
+    EXPECT_FALSE(o.associated);
+  }
+}
+
+// A CPU backend whose joint update fails, on demand, as with an S that is not PD.
+class FailingUpdateBackend final : public CovarianceBackend {
+ public:
+  explicit FailingUpdateBackend(std::unique_ptr<CovarianceBackend> inner)
+      : CovarianceBackend(inner->poseDim()), inner_(std::move(inner)) {}
+  bool fail_updates = false;
+  const char* name() const override { return inner_->name(); }
+  int capacity() const override { return inner_->capacity(); }
+  int numLandmarks() const override { return inner_->numLandmarks(); }
+  int descriptorLength() const override { return inner_->descriptorLength(); }
+  std::size_t memoryBytes() const override { return inner_->memoryBytes(); }
+  PoseMat poseCovariance() const override { return inner_->poseCovariance(); }
+  std::vector<Mat3> landmarkCovariances() const override { return inner_->landmarkCovariances(); }
+  Eigen::MatrixXd denseCovariance() const override { return inner_->denseCovariance(); }
+  std::vector<uint8_t> descriptors() const override { return inner_->descriptors(); }
+
+ protected:
+  Status doReset(const PoseMat& C) override { return inner_->reset(C); }
+  Status doPredict(const PoseMat& F, const PoseMat& Q) override { return inner_->predict(F, Q); }
+  Status doMarginals(const std::vector<int>& slots, std::vector<Mat9>* out) const override {
+    return inner_->marginals(slots, out);
+  }
+  Status doUpdate(const std::vector<MeasurementBlock>& blocks, Eigen::VectorXd* dx, double* nis) override {
+    return fail_updates ? Status::kNotPositiveDefinite : inner_->update(blocks, dx, nis);
+  }
+  Status doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) override { return inner_->addLandmarks(blocks); }
+  Status doRemoveLandmarks(const std::vector<int>& slots) override { return inner_->removeLandmarks(slots); }
+  Status doMatchDescriptors(const uint8_t* q, int n, std::vector<DescriptorMatch>* out) const override {
+    return inner_->matchDescriptors(q, n, out);
+  }
+
+ private:
+  std::unique_ptr<CovarianceBackend> inner_;
+};
+
+// The one error after state changes: the joint update is skipped, the
+// prediction and the bookkeeping still apply, and the outcomes say which
+// measurements were in the skipped update.
+TEST(Eskf, SkippedUpdateStillPredictsAndAddsAndSaysWhichMeasurements) {
+  using Result = MeasurementOutcome::Result;
+  const EskfSettings s = smallSettings();
+  auto failing = std::make_unique<FailingUpdateBackend>(makeCpuBackend(s.max_landmarks, 32));
+  FailingUpdateBackend* backend = failing.get();
+  Eskf f(s, std::move(failing));
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  std::mt19937 rng(5);
+  sim::StereoRig rig;
+  sim::World world = sim::randomWorld(rng, 40, Vec3(-3, -2, 4), Vec3(3, 2, 9));
+  PoseState still;
+  ASSERT_EQ(f.processFrame(sim::makeFrame(world, still, rig, 0.1, 3, rng)), Status::kOk);
+  const int n0 = f.numLandmarks();
+  std::vector<int> times_before;
+  for (const LandmarkInfo& l : f.landmarks()) times_before.push_back(l.times_observed);
+
+  backend->fail_updates = true;
+  const StereoFrame fr = sim::makeFrame(world, still, rig, 0.2, 3, rng);
+  IterationReport rep;
+  ASSERT_EQ(f.processFrame(fr, &rep), Status::kNotPositiveDefinite);
+  EXPECT_TRUE(rep.update_skipped);
+  EXPECT_EQ(rep.n_updated, 0);
+  EXPECT_EQ(f.time(), 0.2);  // predicted to the frame
+  EXPECT_GT(rep.n_added, 0);  // the additions still apply
+  EXPECT_EQ(f.numLandmarks(), n0 + rep.n_added);
+  int skipped = 0, associated = 0;
+  for (const MeasurementOutcome& o : rep.measurements) {
+    skipped += o.result == Result::kUpdateSkipped;
+    associated += o.associated;
+    EXPECT_FALSE(o.fused());
+    if (o.result == Result::kUpdateSkipped) {
+      EXPECT_TRUE(o.associated && std::isfinite(o.nis));
+    }
+  }
+  EXPECT_GT(skipped, 0);
+  EXPECT_EQ(skipped, std::min(s.max_update_landmarks, associated));
+  const std::vector<LandmarkInfo> after = f.landmarks();
+  for (int k = 0; k < n0; ++k) EXPECT_EQ(after[k].times_observed, times_before[k]) << "no observation counted";
 }
 
 TEST(Eskf, PredictEntryPoints) {

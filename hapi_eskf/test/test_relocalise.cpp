@@ -66,6 +66,8 @@ OutageRun runOutage(double relocalise_gap, double unmapped_s = 0.0) {
     r.n_relocalised += rep.relocalised;
     if (rep.relocalising) {
       ++r.n_relocalising;
+      for (const MeasurementOutcome& o : rep.measurements)
+        EXPECT_EQ(o.result, MeasurementOutcome::Result::kHeldBack) << "t=" << t;
       // Held back: no update, no new landmarks (the pose only predicted).
       if (rep.n_updated != 0 || rep.n_added != 0 || f.numLandmarks() != landmarks_before ||
           (f.pose().p - before.p).norm() > 1e-12)

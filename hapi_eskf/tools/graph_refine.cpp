@@ -180,7 +180,7 @@ int main(int argc, char** argv) {
       scene << "centre: [" << stream.globe_centre.x() << ", " << stream.globe_centre.y() << ", "
             << stream.globe_centre.z() << "]\nradius: " << stream.globe_radius << "\n";
   }
-  std::printf("filter: %zu frames recorded, %d rejected, %d with the association not recovered; pool %zu landmarks\n",
+  std::printf("filter: %zu frames recorded, %d rejected, %d with outcomes unlike the report's counts; pool %zu landmarks\n",
               eskf_poses.size(), rejected, recorder.mismatchedFrames(), pool.size());
   std::printf("graph: %zu keyframes, %zu landmarks, %zu observations; cost %.1f -> %.1f in %d iterations\n",
               g.keyframes.size(), g.landmarks.size(), g.observations.size(), rep.initial_cost, rep.final_cost,

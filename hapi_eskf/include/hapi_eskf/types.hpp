@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace hapi_eskf {
@@ -89,6 +90,35 @@ struct CameraExtrinsic {
   Vec3 p_imu_cam = Vec3::Zero();  // [m]
 };
 
+// What one iteration did with one measurement of its frame: one status per
+// measurement, as PX4's ekf2 fills one per aid source
+// (updateAidSourceStatus), so that consumers (the ~refine recorder,
+// eskf_recording.hpp) observe the filter's decisions instead of guessing them.
+struct MeasurementOutcome {
+  enum class Result : uint8_t {
+    kNotProcessed,   // the frame stopped before its association (input or back-end error)
+    kHeldBack,       // relocalising: the frame was held back (prediction only)
+    kFused,          // in the joint update, applied
+    kUpdateSkipped,  // in the joint update, which was skipped (S not PD)
+    kNotUpdated,     // associated, beyond max_update_landmarks
+    kAdded,          // started landmark_id
+    kNotAdded,       // could start a landmark, beyond max_new_landmarks or the pool's room
+    kNotAssociated,  // resembles a pool landmark but failed the ratio test, RANSAC, the gate or lost
+                     // its landmark to another measurement: neither used nor added (Association::may_add)
+  };
+  int measurement = -1;      // index in the frame
+  Result result = Result::kNotProcessed;
+  bool associated = false;   // passed the descriptor match, RANSAC and the Mahalanobis gate
+  uint64_t landmark_id = 0;  // the associated or started landmark; 0: none
+  // Associated: the gate's squared Mahalanobis distance of the innovation
+  // with this landmark alone, nu^T S_j^-1 nu (association.hpp); else NaN.
+  double nis = std::numeric_limits<double>::quiet_NaN();
+  Mat3 Cz = Mat3::Zero();    // C_z as the filter used it (re-detection term included)
+
+  bool fused() const { return result == Result::kFused; }
+  bool added() const { return result == Result::kAdded; }
+};
+
 // Per-iteration figures for diagnostics and the benchmark (milliseconds).
 struct IterationReport {
   double t_predict_ms = 0, t_association_ms = 0, t_update_ms = 0, t_removal_ms = 0, t_addition_ms = 0,
@@ -105,11 +135,14 @@ struct IterationReport {
   bool relocalising = false;    // after an outage, no map fit yet: prediction only (no update, no additions)
   bool vision_led = false;      // IMU and vision disagreed: pose means moved to the map fit (scene_motion_monitor.hpp)
   bool scene_moving = false;    // ... and the IMU says the device was still: the scanned surface moves
+  // One per measurement of the frame, in frame order (back ends on the
+  // ES-EKF's host logic; empty from the others).
+  std::vector<MeasurementOutcome> measurements;
 
   // Adds the per-frame amounts of `o` (timings, counts, mean_nis), so that a
   // sum over frames divided by their number is the per-frame mean. The pool
-  // size n_landmarks and the flags describe one frame, not an amount: they
-  // are left as they are.
+  // size n_landmarks, the flags and the outcomes describe one frame, not an
+  // amount: they are left as they are.
   IterationReport& operator+=(const IterationReport& o) {
     t_predict_ms += o.t_predict_ms;
     t_association_ms += o.t_association_ms;

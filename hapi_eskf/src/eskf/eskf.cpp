@@ -37,6 +37,12 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+// Relocalising: the frame is held back (prediction only).
+void holdBack(IterationReport* rep) {
+  rep->relocalising = true;
+  for (MeasurementOutcome& o : rep->measurements) o.result = MeasurementOutcome::Result::kHeldBack;
+}
+
 }  // namespace
 
 Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend,
@@ -207,237 +213,325 @@ bool Eskf::poseBlockState(PoseBlockState* out) const {
   return true;
 }
 
-Status Eskf::checkFrame(const StereoFrame& frame) const {
+// One frame's working data, handed from stage to stage. `frame` is the frame
+// with the filter's measurement model (withRedetectionNoise), used for
+// gating, the update and new landmarks alike.
+struct Eskf::FrameWork {
+  FrameWork(const StereoFrame& in, int n_landmarks) : frame(&in) {
+    rep.n_measurements = static_cast<int>(in.measurements.size());
+    rep.n_landmarks = n_landmarks;
+    rep.measurements.resize(in.measurements.size());
+    for (int i = 0; i < rep.n_measurements; ++i) rep.measurements[i].measurement = i;
+  }
+  const Clock::time_point start = Clock::now();
+  IterationReport rep;
+  StereoFrame inflated;  // withRedetectionNoise's copy
+  const StereoFrame* frame;
+  double previous_stamp = 0.0;  // the previous frame's (Relocaliser::acceptFrame)
+  Association assoc;
+  std::vector<int> by_response;  // LandmarkBook::byResponse
+  std::vector<char> used_slot;   // the landmarks of this frame's update
+  // The frame's predicted camera pose and its Jacobian: the update's
+  // linearisation point, and with first-estimate Jacobians also the new
+  // landmarks' (docs/DESIGN.md "First-estimate Jacobians").
+  PoseState camera_predicted;
+  Mat6 J_predicted = Mat6::Identity();
+  // The state the frame saw: new landmarks are placed from it (with a
+  // modelled frame error it differs from the corrected state by the
+  // estimate of that error).
+  NominalState frame_state;
+  std::vector<int> add_meas;  // measurements that would start landmarks, strongest first
+  int n_add = 0;              // how many of them fit
+  Status result = Status::kOk;  // kNotPositiveDefinite once the update was skipped
+};
+
+Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) {
+  FrameWork w(frame_in, numLandmarks());
+  // Everything that can be wrong with the input is found here, before any change.
+  Status st = admitFrame(frame_in);
+  if (st != Status::kOk) return finishFrame(w, st, report);
+  w.frame = &withRedetectionNoise(frame_in, &w.inflated);
+
+  // --- predict (from rest after an outage) ---
+  st = predictFrame(w);
+  // --- associate; relocalise or let vision lead ---
+  if (st == Status::kOk) st = associateFrame(w);
+  if (st != Status::kOk) return finishFrame(w, st, report);
+  recordAssociation(w);
+  if (relocaliser_.holdFrame(w.frame->stamp)) {
+    holdBack(&w.rep);  // settings.hpp kRelocaliseWaitS: wait for a frame the map supports
+    return finishFrame(w, Status::kOk, report);
+  }
+  // --- update, remove, add ---
+  st = updateFrame(w);
+  if (st == Status::kOk) st = removeForAdditions(w);
+  if (st == Status::kOk) st = addLandmarks(w);
+  return finishFrame(w, st == Status::kOk ? w.result : st, report);
+}
+
+Status Eskf::admitFrame(const StereoFrame& frame) const {
+  if (!backend_) return Status::kBackendUnavailable;
+  if (!initialised_) return Status::kNotInitialised;
+  if (awaiting_alignment_) return Status::kAwaitingImu;
   return checkStereoFrame(frame, time_, backend_->descriptorLength(), settings_.max_frame_measurements);
 }
 
-Mat3 Eskf::redetectionCovariance(const Vec3& z) const {
-  return hapi_eskf::redetectionCovariance(z, settings_.measurement_angular_sigma);
+// Measurement model: C_z of the stereo pair plus the keypoint's re-detection
+// noise across frames (settings.hpp, measurement_angular_sigma).
+const StereoFrame& Eskf::withRedetectionNoise(const StereoFrame& frame, StereoFrame* storage) const {
+  if (!(settings_.measurement_angular_sigma > 0.0)) return frame;
+  *storage = frame;
+  for (StereoMeasurement& m : storage->measurements)
+    m.Cz += redetectionCovariance(m.z, settings_.measurement_angular_sigma);
+  return *storage;
 }
 
-Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) {
-  const auto t_start = Clock::now();
-  IterationReport rep;
-  rep.n_measurements = static_cast<int>(frame_in.measurements.size());
-  rep.n_landmarks = numLandmarks();
-  // Every exit: the frame's backend calls are done, so work the backend
-  // defers to the time between frames starts here (frameCompleted).
-  auto finish = [&](Status s) {
-    if (backend_) {
-      const Status closed = frame_error_.close(backend_.get());
-      if (s == Status::kOk) s = closed;
-      const Status deferred = backend_->frameCompleted();
-      if (s == Status::kOk) s = deferred;
-    }
-    rep.t_total_ms = msSince(t_start);
-    rep.n_landmarks = numLandmarks();
-    if (report) *report = rep;
-    return s;
-  };
-  if (!backend_) return finish(Status::kBackendUnavailable);
-  if (!initialised_) return finish(Status::kNotInitialised);
-  if (awaiting_alignment_) return finish(Status::kAwaitingImu);
-  // Everything that can be wrong with the input is found here, before any change.
-  Status st = checkFrame(frame_in);
-  if (st != Status::kOk) return finish(st);
-  // Measurement model: C_z of the stereo pair plus the keypoint's re-detection
-  // noise across frames (settings.hpp, measurement_angular_sigma), used for
-  // gating, the update and new landmarks alike.
-  StereoFrame inflated;
-  if (settings_.measurement_angular_sigma > 0.0) {
-    inflated = frame_in;
-    for (StereoMeasurement& m : inflated.measurements) m.Cz += redetectionCovariance(m.z);
-  }
-  const StereoFrame& frame = settings_.measurement_angular_sigma > 0.0 ? inflated : frame_in;
-
-  // --- predict ---
-  // After an outage longer than relocalise_gap the last velocity says nothing
-  // about the motion since: predict from rest (settings.hpp).
+// After an outage longer than relocalise_gap the last velocity says nothing
+// about the motion since: predict from rest (settings.hpp). A prediction
+// that fails leaves the state as it was (the frame is rejected).
+Status Eskf::predictFrame(FrameWork& w) {
+  const double stamp = w.frame->stamp;
   const NominalState state_before = state_, lin_before = lin_;
   const bool velocity_measured_before = velocity_measured_;
-  if (relocaliser_.beginFrame(frame.stamp)) {
+  if (relocaliser_.beginFrame(stamp)) {
     model_->stop(&state_);
     restartFirstEstimates();
     velocity_measured_ = false;
   }
-  auto t0 = Clock::now();
-  st = predictStepTo(frame.stamp, nullptr);
+  const auto t0 = Clock::now();
+  Status st = predictStepTo(stamp, nullptr);
   if (st == Status::kOk) st = flushPrediction();
-  rep.t_predict_ms = msSince(t0);
+  w.rep.t_predict_ms = msSince(t0);
   if (st != Status::kOk) {
-    state_ = state_before;  // a rejected frame changes nothing
+    state_ = state_before;
     lin_ = lin_before;
     relocaliser_.rollback();
     velocity_measured_ = velocity_measured_before;
-    return finish(st);
+    return st;
   }
-  const double previous_frame_stamp = relocaliser_.acceptFrame(frame.stamp);
-  // From here to finish() the first 6 pose columns are the pose this frame
-  // sees, with its shared vision error (frame_error_block.hpp).
-  st = frame_error_.open(backend_.get(), model_->cameraJacobian(state_));
-  if (st != Status::kOk) return finish(st);
+  w.previous_stamp = relocaliser_.acceptFrame(stamp);
+  // From here to finishFrame() the first 6 pose columns are the pose this
+  // frame sees, with its shared vision error (frame_error_block.hpp).
+  return frame_error_.open(backend_.get(), model_->cameraJacobian(state_));
+}
 
-  // --- association ---
-  t0 = Clock::now();
-  Association assoc;
-  st = associate(frame, pose(), model_->cameraJacobian(state_), book_.positions(), *backend_, settings_, &assoc);
-  const bool have_fit = st == Status::kOk && assoc.fit_inliers >= kRelocaliseMinInliers;
-  // IMU and vision agreement (models with IMU; scene_motion_monitor.hpp).
+Status Eskf::associateAtPose(FrameWork& w) const {
+  return associate(*w.frame, pose(), model_->cameraJacobian(state_), book_.positions(), *backend_, settings_,
+                   &w.assoc);
+}
+
+// Association at the predicted pose; with an IMU, the IMU and vision
+// agreement; after an outage, or when vision leads, the map fit moves the
+// pose and the frame is associated again around it.
+Status Eskf::associateFrame(FrameWork& w) {
+  const auto t0 = Clock::now();
+  Status st = associateAtPose(w);
+  const bool have_fit = st == Status::kOk && w.assoc.fit_inliers >= kRelocaliseMinInliers;
   bool vision_leads = false;
   if (have_fit && model_->usesImu() && !relocaliser_.pending()) {
-    const SceneMotionVerdict v = scene_motion_.onFrame(assoc.fit_inliers, assoc.n_fit_inliers_gated_out);
-    vision_leads = v.disagreed;
-    rep.vision_led = v.disagreed;
-    rep.scene_moving = v.disagreed && v.device_still;
-    // A moving device whose prediction vision contradicts: the motion states
-    // (velocity, biases, gravity) are what is wrong (a start in a fast turn
-    // levels the map by a mean acceleration, the velocity starts at rest):
-    // their uncertainty goes back to the prior, so this frame's update and
-    // the next ones estimate them afresh instead of keeping a wrong,
-    // confident value that disagrees frame after frame.
-    if (v.disagreed && !v.device_still) {
-      const int P = model_->poseDim();
-      st = backend_->predict(frame_error_.transition(PoseMat::Identity(P, P)),
-                             frame_error_.noise(model_->motionStatesPrior()));
-      if (st != Status::kOk) return finish(st);
-    }
+    const Status prior = checkSceneMotion(w, &vision_leads);
+    if (prior != Status::kOk) return prior;
   }
-  if (have_fit && (relocaliser_.pending() || vision_leads)) {
-    // The map fit becomes the linearisation point (means only), then gate
-    // again around it. After an outage the velocity was set to rest; when
-    // vision leads, the velocity mean takes the displacement the prediction
-    // missed over this frame interval, so the next prediction starts from a
-    // velocity vision supports (left alone, a wrong velocity makes every
-    // following frame disagree again).
-    if (vision_leads && !relocaliser_.pending() && frame.stamp > previous_frame_stamp)
-      model_->correctVelocity(&state_, assoc.fit_t - pose().p, frame.stamp - previous_frame_stamp);
-    model_->moveCameraTo(&state_, assoc.fit_t, Eigen::Quaterniond(assoc.fit_R).normalized());
-    restartFirstEstimates();
-    rep.relocalised = relocaliser_.fitApplied();
-    st = associate(frame, pose(), model_->cameraJacobian(state_), book_.positions(), *backend_, settings_, &assoc);
-  }
-  rep.t_association_ms = msSince(t0);
-  if (st != Status::kOk) return finish(st);
-  rep.n_candidates = assoc.n_candidates;
-  rep.n_gated_out = assoc.n_gated_out;
-  if (relocaliser_.holdFrame(frame.stamp)) {
-    rep.relocalising = true;  // settings.hpp kRelocaliseWaitS: wait for a frame the map supports
-    return finish(Status::kOk);
-  }
+  if (have_fit && (relocaliser_.pending() || vision_leads)) st = moveToMapFit(w, vision_leads);
+  w.rep.t_association_ms = msSince(t0);
+  if (st != Status::kOk) return st;
+  w.rep.n_candidates = w.assoc.n_candidates;
+  w.rep.n_gated_out = w.assoc.n_gated_out;
+  return Status::kOk;
+}
 
-  const std::vector<int> by_response = LandmarkBook::byResponse(frame);
+// IMU and vision agreement (models with IMU; scene_motion_monitor.hpp).
+Status Eskf::checkSceneMotion(FrameWork& w, bool* vision_leads) {
+  const SceneMotionVerdict v = scene_motion_.onFrame(w.assoc.fit_inliers, w.assoc.n_fit_inliers_gated_out);
+  *vision_leads = v.disagreed;
+  w.rep.vision_led = v.disagreed;
+  w.rep.scene_moving = v.disagreed && v.device_still;
+  // A moving device whose prediction vision contradicts: the motion states
+  // (velocity, biases, gravity) are what is wrong (a start in a fast turn
+  // levels the map by a mean acceleration, the velocity starts at rest):
+  // their uncertainty goes back to the prior, so this frame's update and
+  // the next ones estimate them afresh instead of keeping a wrong,
+  // confident value that disagrees frame after frame.
+  if (!v.disagreed || v.device_still) return Status::kOk;
+  const int P = model_->poseDim();
+  return backend_->predict(frame_error_.transition(PoseMat::Identity(P, P)),
+                           frame_error_.noise(model_->motionStatesPrior()));
+}
 
-  // --- update ---
-  t0 = Clock::now();
-  Status result = Status::kOk;
-  const std::vector<int> used_meas = LandmarkBook::chooseUpdates(assoc, by_response, settings_);
-  std::vector<char> used_slot(numLandmarks(), 0);
-  // The frame's predicted camera pose and its Jacobian: the update's
-  // linearisation point, and with first-estimate Jacobians also the new
-  // landmarks' (docs/DESIGN.md "First-estimate Jacobians").
-  const bool fej = settings_.first_estimate_jacobians;
-  const PoseState camera_predicted = pose();
-  const Mat6 J_predicted = model_->cameraJacobian(state_);
-  // The state the frame saw: new landmarks are placed from it (with a
-  // modelled frame error it differs from the corrected state by the
-  // estimate of that error).
-  NominalState frame_state = state_;
-  if (!used_meas.empty()) {
-    const PoseState& camera = camera_predicted;
-    const Mat6& J = J_predicted;
-    const std::vector<Vec3>& lin_positions = fej ? book_.firstEstimates() : book_.positions();
-    std::vector<MeasurementBlock> blocks(used_meas.size());
-    for (std::size_t j = 0; j < used_meas.size(); ++j) {
-      const int i = used_meas[j], k = assoc.slot[i];
-      MeasurementBlock& b = blocks[j];
-      b.slot = k;
-      Mat36 H_camera;
-      measurementJacobian(camera, lin_positions[k], &H_camera, &b.H_landmark);
-      b.H_pose = H_camera * J;
-      b.R = frame.measurements[i].Cz;
-      b.innovation = frame.measurements[i].z - measure(camera, book_.positions()[k]);
-    }
-    Eigen::VectorXd dx;
-    double nis = 0.0;
-    st = backend_->update(blocks, &dx, &nis);
-    if (st == Status::kOk) {
-      model_->inject(&frame_state, frame_error_.framePoseCorrection(dx));
-      model_->inject(&state_, frame_error_.poseCorrection(dx));
-      book_.correct(dx, backend_->poseDim());
-      for (int i : used_meas) {
-        const int k = assoc.slot[i];
-        used_slot[k] = 1;
-        book_.observe(k, frame.stamp, frame.measurements[i].rgb);
-      }
-      rep.n_updated = static_cast<int>(used_meas.size());
-      rep.mean_nis = nis / rep.n_updated;
-      // The map an earlier frame built fixes this pose, so the velocity
-      // (the displacement since) is measured, unless the pose was just
-      // moved to the map fit after an outage with the velocity at rest.
-      if (!rep.relocalised) velocity_measured_ = true;
-    } else if (st == Status::kNotPositiveDefinite || st == Status::kNonFinite) {
-      rep.update_skipped = true;
-      result = Status::kNotPositiveDefinite;
-      // The landmarks were still associated: protect them from eviction.
-      for (int i : used_meas) used_slot[assoc.slot[i]] = 1;
+// The map fit becomes the linearisation point (means only), then gate again
+// around it. After an outage the velocity was set to rest; when vision
+// leads, the velocity mean takes the displacement the prediction missed
+// over this frame interval, so the next prediction starts from a velocity
+// vision supports (left alone, a wrong velocity makes every following frame
+// disagree again).
+Status Eskf::moveToMapFit(FrameWork& w, bool vision_leads) {
+  const double stamp = w.frame->stamp;
+  if (vision_leads && !relocaliser_.pending() && stamp > w.previous_stamp)
+    model_->correctVelocity(&state_, w.assoc.fit_t - pose().p, stamp - w.previous_stamp);
+  model_->moveCameraTo(&state_, w.assoc.fit_t, Eigen::Quaterniond(w.assoc.fit_R).normalized());
+  restartFirstEstimates();
+  w.rep.relocalised = relocaliser_.fitApplied();
+  return associateAtPose(w);
+}
+
+// Each measurement as the association left it; the update and the
+// additions settle the associated and the new ones.
+void Eskf::recordAssociation(FrameWork& w) const {
+  using Result = MeasurementOutcome::Result;
+  const Association& a = w.assoc;
+  for (MeasurementOutcome& o : w.rep.measurements) {
+    const int i = o.measurement;
+    o.Cz = w.frame->measurements[i].Cz;
+    o.associated = a.slot[i] >= 0;
+    if (o.associated) {
+      o.landmark_id = book_.ids()[a.slot[i]];
+      o.nis = a.d2[i];
+      o.result = Result::kNotUpdated;
     } else {
-      rep.t_update_ms = msSince(t0);
-      return finish(st);
+      o.result = a.may_add[i] ? Result::kNotAdded : Result::kNotAssociated;
     }
   }
-  rep.t_update_ms = msSince(t0);
+}
 
-  // --- removal ---
-  t0 = Clock::now();
-  const std::vector<int> add_meas = book_.chooseAdditions(assoc, by_response, settings_);
-  const int n_candidates = static_cast<int>(add_meas.size());
-  const std::vector<int> evict = book_.chooseRemovals(n_candidates, used_slot, settings_);
+Status Eskf::updateFrame(FrameWork& w) {
+  w.by_response = LandmarkBook::byResponse(*w.frame);
+  const auto t0 = Clock::now();
+  const std::vector<int> used_meas = LandmarkBook::chooseUpdates(w.assoc, w.by_response, settings_);
+  w.used_slot.assign(numLandmarks(), 0);
+  w.camera_predicted = pose();
+  w.J_predicted = model_->cameraJacobian(state_);
+  w.frame_state = state_;
+  const Status st = used_meas.empty() ? Status::kOk : fuse(w, used_meas);
+  w.rep.t_update_ms = msSince(t0);
+  return st;
+}
+
+std::vector<MeasurementBlock> Eskf::updateBlocks(const FrameWork& w, const std::vector<int>& used_meas) const {
+  const std::vector<Vec3>& lin_positions =
+      settings_.first_estimate_jacobians ? book_.firstEstimates() : book_.positions();
+  std::vector<MeasurementBlock> blocks(used_meas.size());
+  for (std::size_t j = 0; j < used_meas.size(); ++j) {
+    const int i = used_meas[j], k = w.assoc.slot[i];
+    const StereoMeasurement& m = w.frame->measurements[i];
+    MeasurementBlock& b = blocks[j];
+    b.slot = k;
+    Mat36 H_camera;
+    measurementJacobian(w.camera_predicted, lin_positions[k], &H_camera, &b.H_landmark);
+    b.H_pose = H_camera * w.J_predicted;
+    b.R = m.Cz;
+    b.innovation = m.z - measure(w.camera_predicted, book_.positions()[k]);
+  }
+  return blocks;
+}
+
+// The joint update of the chosen measurements. S not PD (or a non-finite
+// correction): the update is skipped and the frame goes on (file header).
+Status Eskf::fuse(FrameWork& w, const std::vector<int>& used_meas) {
+  using Result = MeasurementOutcome::Result;
+  Eigen::VectorXd dx;
+  double nis = 0.0;
+  const Status st = backend_->update(updateBlocks(w, used_meas), &dx, &nis);
+  const bool skipped = st == Status::kNotPositiveDefinite || st == Status::kNonFinite;
+  if (st != Status::kOk && !skipped) return st;
+  // The landmarks were associated either way: protect them from eviction.
+  for (int i : used_meas) {
+    w.used_slot[w.assoc.slot[i]] = 1;
+    w.rep.measurements[i].result = skipped ? Result::kUpdateSkipped : Result::kFused;
+  }
+  if (skipped) {
+    w.rep.update_skipped = true;
+    w.result = Status::kNotPositiveDefinite;
+    return Status::kOk;
+  }
+  model_->inject(&w.frame_state, frame_error_.framePoseCorrection(dx));
+  model_->inject(&state_, frame_error_.poseCorrection(dx));
+  book_.correct(dx, backend_->poseDim());
+  for (int i : used_meas) book_.observe(w.assoc.slot[i], w.frame->stamp, w.frame->measurements[i].rgb);
+  w.rep.n_updated = static_cast<int>(used_meas.size());
+  w.rep.mean_nis = nis / w.rep.n_updated;
+  // The map an earlier frame built fixes this pose, so the velocity (the
+  // displacement since) is measured, unless the pose was just moved to the
+  // map fit after an outage with the velocity at rest.
+  if (!w.rep.relocalised) velocity_measured_ = true;
+  return Status::kOk;
+}
+
+// Room for the additions: stale landmarks go when the pool would overflow
+// (landmark_book.hpp).
+Status Eskf::removeForAdditions(FrameWork& w) {
+  const auto t0 = Clock::now();
+  w.add_meas = book_.chooseAdditions(w.assoc, w.by_response, settings_);
+  const int n_candidates = static_cast<int>(w.add_meas.size());
+  const std::vector<int> evict = book_.chooseRemovals(n_candidates, w.used_slot, settings_);
   if (!evict.empty()) {
-    st = backend_->removeLandmarks(evict);
+    const Status st = backend_->removeLandmarks(evict);
     if (st != Status::kOk) {
-      rep.t_removal_ms = msSince(t0);
-      return finish(st);
+      w.rep.t_removal_ms = msSince(t0);
+      return st;
     }
     book_.remove(evict);  // the same slot plan on the host (removal_plan.hpp)
-    rep.n_removed = static_cast<int>(evict.size());
+    w.rep.n_removed = static_cast<int>(evict.size());
   }
-  const int n_add = book_.additionsThatFit(n_candidates, settings_);
-  rep.t_removal_ms = msSince(t0);
+  w.n_add = book_.additionsThatFit(n_candidates, settings_);
+  w.rep.t_removal_ms = msSince(t0);
+  return Status::kOk;
+}
 
-  // --- addition ---
-  t0 = Clock::now();
-  frame_camera_ = model_->camera(frame_state);
+Status Eskf::addLandmarks(FrameWork& w) {
+  const auto t0 = Clock::now();
+  frame_camera_ = model_->camera(w.frame_state);
+  const Status st = w.n_add > 0 ? startLandmarks(w) : Status::kOk;
+  w.rep.t_addition_ms = msSince(t0);
+  return st;
+}
+
+// New landmarks from the camera as the frame saw it (frameCamera()).
+Status Eskf::startLandmarks(FrameWork& w) {
+  const StereoFrame& frame = *w.frame;
+  const bool fej = settings_.first_estimate_jacobians;
   const PoseState& camera = frame_camera_;
-  if (n_add > 0) {
-    // First estimates: the Jacobians at the predicted pose, which also
-    // places the landmark's first estimate; the mean from the corrected one.
-    const PoseState& camera_lin = fej ? camera_predicted : camera;
-    const Mat6 J = fej ? J_predicted : model_->cameraJacobian(frame_state);
-    std::vector<NewLandmarkBlock> blocks(n_add);
-    for (int j = 0; j < n_add; ++j) {
-      const int i = add_meas[j];
-      const StereoMeasurement& m = frame.measurements[i];
-      Mat36 G_camera;
-      newLandmarkJacobian(camera_lin, m.z, &G_camera, &blocks[j].G_z);
-      blocks[j].G_pose = G_camera * J;
-      blocks[j].Cz = m.Cz;
-      blocks[j].descriptor =
-          frame.descriptor_length > 0 ? &frame.descriptors[static_cast<std::size_t>(i) * frame.descriptor_length]
-                                      : nullptr;
-    }
-    st = backend_->addLandmarks(blocks);
-    if (st != Status::kOk) {
-      rep.t_addition_ms = msSince(t0);
-      return finish(st);
-    }
-    for (int j = 0; j < n_add; ++j) {
-      const StereoMeasurement& m = frame.measurements[add_meas[j]];
-      book_.add(initLandmark(camera, m.z), m.rgb, frame.stamp, initLandmark(camera_lin, m.z));
-    }
-    rep.n_added = n_add;
+  // First estimates: the Jacobians at the predicted pose, which also places
+  // the landmark's first estimate; the mean from the corrected one.
+  const PoseState& camera_lin = fej ? w.camera_predicted : camera;
+  const Mat6 J = fej ? w.J_predicted : model_->cameraJacobian(w.frame_state);
+  std::vector<NewLandmarkBlock> blocks(w.n_add);
+  for (int j = 0; j < w.n_add; ++j) {
+    const int i = w.add_meas[j];
+    const StereoMeasurement& m = frame.measurements[i];
+    Mat36 G_camera;
+    newLandmarkJacobian(camera_lin, m.z, &G_camera, &blocks[j].G_z);
+    blocks[j].G_pose = G_camera * J;
+    blocks[j].Cz = m.Cz;
+    blocks[j].descriptor =
+        frame.descriptor_length > 0 ? &frame.descriptors[static_cast<std::size_t>(i) * frame.descriptor_length]
+                                    : nullptr;
   }
-  rep.t_addition_ms = msSince(t0);
-  return finish(result);
+  const Status st = backend_->addLandmarks(blocks);
+  if (st != Status::kOk) return st;
+  for (int j = 0; j < w.n_add; ++j) {
+    const int i = w.add_meas[j];
+    const StereoMeasurement& m = frame.measurements[i];
+    MeasurementOutcome& o = w.rep.measurements[i];
+    o.landmark_id = book_.add(initLandmark(camera, m.z), m.rgb, frame.stamp, initLandmark(camera_lin, m.z));
+    o.result = MeasurementOutcome::Result::kAdded;
+  }
+  w.rep.n_added = w.n_add;
+  return Status::kOk;
+}
+
+// Every exit: the frame's backend calls are done, so work the backend
+// defers to the time between frames starts here (frameCompleted).
+Status Eskf::finishFrame(FrameWork& w, Status s, IterationReport* report) {
+  if (backend_) {
+    const Status closed = frame_error_.close(backend_.get());
+    if (s == Status::kOk) s = closed;
+    const Status deferred = backend_->frameCompleted();
+    if (s == Status::kOk) s = deferred;
+  }
+  w.rep.t_total_ms = msSince(w.start);
+  w.rep.n_landmarks = numLandmarks();
+  if (report) *report = std::move(w.rep);
+  return s;
 }
 
 }  // namespace hapi_eskf

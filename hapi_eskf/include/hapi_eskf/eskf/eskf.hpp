@@ -9,9 +9,12 @@
 //
 // One processFrame() = predict to the frame stamp -> associate (descriptor
 // best/second-best + ratio test, RANSAC rigid fit, Mahalanobis gate) -> IMU
-// and vision agreement (scene_motion_monitor.hpp) -> joint update with at
+// and vision agreement (scene_motion_monitor.hpp), relocalise or let vision
+// lead (the map fit moves the pose, associate again) -> joint update with at
 // most max_update_landmarks -> remove (stale landmarks when the pool would
-// overflow) -> add at most max_new_landmarks unmatched measurements.
+// overflow) -> add at most max_new_landmarks unmatched measurements. Each
+// stage is one private member; the report says what each measurement
+// became (IterationReport::measurements).
 #pragma once
 
 #include "hapi_eskf/backend/landmark_book.hpp"
@@ -116,9 +119,31 @@ class Eskf final : public SlamBackend {
 
  private:
   // Internal steps, exposed to tests through the public API only.
-  Status checkFrame(const StereoFrame& frame) const;
-  // Re-detection covariance added to C_z (EskfSettings::measurement_angular_sigma).
-  Mat3 redetectionCovariance(const Vec3& z) const;
+  // One frame's working data, handed from stage to stage (eskf.cpp).
+  struct FrameWork;
+  // Everything that can be wrong before any change: the filter's state and
+  // the frame itself.
+  Status admitFrame(const StereoFrame& frame) const;
+  // The frame with the filter's measurement model: C_z plus the re-detection
+  // covariance (EskfSettings::measurement_angular_sigma); `frame` itself
+  // when there is none, else a copy in *storage.
+  const StereoFrame& withRedetectionNoise(const StereoFrame& frame, StereoFrame* storage) const;
+  // The frame's stages, in processFrame() order. Each returns the Status
+  // that ends the frame (kOk: go on).
+  Status predictFrame(FrameWork& w);
+  Status associateFrame(FrameWork& w);
+  Status associateAtPose(FrameWork& w) const;
+  Status checkSceneMotion(FrameWork& w, bool* vision_leads);
+  Status moveToMapFit(FrameWork& w, bool vision_leads);
+  void recordAssociation(FrameWork& w) const;
+  Status updateFrame(FrameWork& w);
+  std::vector<MeasurementBlock> updateBlocks(const FrameWork& w, const std::vector<int>& used_meas) const;
+  Status fuse(FrameWork& w, const std::vector<int>& used_meas);
+  Status removeForAdditions(FrameWork& w);
+  Status addLandmarks(FrameWork& w);
+  Status startLandmarks(FrameWork& w);
+  // Every exit: closes the frame's backend work and hands out the report.
+  Status finishFrame(FrameWork& w, Status s, IterationReport* report);
   Status predictStepTo(double stamp, const ImuSample* imu);
   Status flushPrediction();  // the chained steps into the backend's C
   void clearPendingPrediction();

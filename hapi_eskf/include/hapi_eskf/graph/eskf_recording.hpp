@@ -6,13 +6,10 @@
 // landmark keeps the filter's latest estimate as its initial value. The full
 // batch refinement (batch_refinement.hpp) then re-linearises all of it.
 //
-// The filter does not hand out its per-measurement association, so the
-// recorder recomputes it with the filter's own association function on the
-// predicted state, exactly as the filter's iteration does, and checks it
-// against the filter's bookkeeping (which landmarks were updated, which
-// started): a frame where the two disagree (after an outage the filter
-// relocalises first) keeps only the observations both agree on and is
-// counted in mismatchedFrames().
+// The filter reports what it did with each measurement of a frame
+// (IterationReport::measurements: fused into which landmark, or started
+// which one, with the C_z it used); the recorder takes those outcomes as
+// they are.
 #pragma once
 
 #include "hapi_eskf/eskf/eskf.hpp"
@@ -34,15 +31,19 @@ class EskfRecorder {
   // (GraphSettings::keyframe_min_observations).
   explicit EskfRecorder(int min_keyframe_observations) : min_observations_(min_keyframe_observations) {}
 
-  // One filter iteration on `eskf` (predictTo + processFrame: the same
-  // result as processFrame alone), recorded. Returns the filter's status;
-  // frames the filter rejects or holds back (relocalising) are not recorded.
+  // One filter iteration on `eskf` (its processFrame), recorded. Returns
+  // the filter's status; frames the filter rejects or holds back
+  // (relocalising) are not recorded.
   Status processFrame(Eskf* eskf, const StereoFrame& frame, IterationReport* report = nullptr);
 
   const GraphMap& graph() const { return graph_; }
+  // Recorded frames whose outcomes disagree with the report's own counts
+  // (n_updated, n_added): a check of the filter's bookkeeping, 0 when sound.
   int mismatchedFrames() const { return mismatched_frames_; }
 
  private:
+  void record(const Eskf& eskf, const StereoFrame& frame, const IterationReport& rep);
+
   const int min_observations_;
   GraphMap graph_;
   int mismatched_frames_ = 0;
