@@ -5,12 +5,12 @@
 #include "hapi_eskf/slam_backend_factory.hpp"
 
 #include "hapi_eskf/backend/slam_backend_maker.hpp"
-#include "hapi_eskf/eskf/eskf_backend.hpp"
-#include "hapi_eskf/fastslam/fastslam_backend.hpp"
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/fastslam/fastslam2.hpp"
 #ifdef HAPI_ESKF_WITH_GRAPH
-#include "hapi_eskf/graph/graph_backend.hpp"
+#include "hapi_eskf/graph/graph_slam.hpp"
 #endif
-#include "hapi_eskf/seif/seif_backend.hpp"
+#include "hapi_eskf/seif/seif_storage.hpp"
 
 namespace hapi_eskf {
 namespace {

@@ -1,7 +1,6 @@
-// The ES-EKF's maker (eskf_backend.hpp).
-#include "hapi_eskf/eskf/eskf_backend.hpp"
-
+// The ES-EKF's maker (eskf.hpp makeEskfBackend).
 #include "hapi_eskf/eskf/eskf.hpp"
+
 #include "hapi_eskf/eskf/storage_factory.hpp"
 
 namespace hapi_eskf {

@@ -1,8 +1,7 @@
-// The SEIF's maker (seif_backend.hpp).
-#include "hapi_eskf/seif/seif_backend.hpp"
+// The SEIF's maker (seif_storage.hpp makeSeifBackend).
+#include "hapi_eskf/seif/seif_storage.hpp"
 
 #include "hapi_eskf/eskf/eskf.hpp"
-#include "hapi_eskf/seif/seif_storage.hpp"
 
 namespace hapi_eskf {
 namespace seif {

@@ -68,4 +68,22 @@ std::unique_ptr<SlamBackend> makeAssociatingBackend(
     const EskfSettings& settings, int descriptor_length,
     const std::function<std::unique_ptr<AssociatedCore>(std::string* error)>& makeCore, std::string* error);
 
+// The same for a Core constructed from its own settings table (GraphSettings,
+// FastSlamSettings), checked first with their validate().
+template <typename Core, typename CoreSettings>
+std::unique_ptr<SlamBackend> makeAssociatingBackendOf(const EskfSettings& settings, int descriptor_length,
+                                                      const CoreSettings& core_settings, std::string* error) {
+  return makeAssociatingBackend(
+      settings, descriptor_length,
+      [&core_settings](std::string* err) -> std::unique_ptr<AssociatedCore> {
+        const std::string bad = core_settings.validate();
+        if (!bad.empty()) {
+          if (err) *err = bad;
+          return nullptr;
+        }
+        return std::make_unique<Core>(core_settings);
+      },
+      error);
+}
+
 }  // namespace hapi_eskf

@@ -29,6 +29,7 @@
 #include "hapi_eskf/types.hpp"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace hapi_eskf {
@@ -179,5 +180,10 @@ class Eskf final : public SlamBackend {
   Relocaliser relocaliser_;
   LandmarkBook book_;  // per slot, same order as the backend's slots
 };
+
+// The ES-EKF's maker (backend/slam_backend_maker.hpp): backend_algorithm eskf,
+// the filter over the storage the settings name (storage_factory.hpp).
+std::unique_ptr<SlamBackend> makeEskfBackend(const EskfSettings& settings, int descriptor_length,
+                                             const CameraExtrinsic& extrinsic, std::string* error);
 
 }  // namespace hapi_eskf

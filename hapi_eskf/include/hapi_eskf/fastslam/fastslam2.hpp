@@ -12,6 +12,7 @@
 
 #include "hapi_eskf/backend/associated_core.hpp"
 #include "hapi_eskf/backend/associated_frame.hpp"
+#include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/fastslam/fastslam_settings.hpp"
 #include "hapi_eskf/fastslam/particle.hpp"
 #include "hapi_eskf/status.hpp"
@@ -19,6 +20,8 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -70,6 +73,11 @@ class FastSlam2 final : public AssociatedCore {
   std::vector<int> times_observed_;
   std::vector<double> last_seen_;
 };
+
+// FastSLAM 2.0's maker (backend/slam_backend_maker.hpp): backend_algorithm
+// fastslam2, FastSlam2 behind the shared association and bookkeeping.
+std::unique_ptr<SlamBackend> makeFastSlamBackend(const EskfSettings& settings, int descriptor_length,
+                                                 const CameraExtrinsic& extrinsic, std::string* error);
 
 }  // namespace fastslam
 }  // namespace hapi_eskf

@@ -22,6 +22,7 @@
 
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 namespace hapi_eskf {
@@ -84,6 +85,11 @@ class GraphSlam final : public AssociatedCore {
 
 // The Graph SLAM core behind `backend` (an AssociatingBackend), else nullptr.
 const GraphSlam* graphSlamOf(const SlamBackend* backend);
+
+// Graph SLAM's maker (backend/slam_backend_maker.hpp): backend_algorithm
+// graph, GraphSlam behind the shared association and bookkeeping.
+std::unique_ptr<SlamBackend> makeGraphBackend(const EskfSettings& settings, int descriptor_length,
+                                              const CameraExtrinsic& extrinsic, std::string* error);
 
 }  // namespace graph
 }  // namespace hapi_eskf

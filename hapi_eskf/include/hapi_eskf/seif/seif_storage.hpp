@@ -26,6 +26,7 @@
 #pragma once
 
 #include "hapi_eskf/backend/descriptor_pool.hpp"
+#include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/seif/information_matrix.hpp"
 
@@ -93,6 +94,11 @@ class SeifStorage final : public CovarianceBackend {
 // the pose block of settings.motion_model; nullptr with *error otherwise.
 std::unique_ptr<CovarianceBackend> makeSeifStorage(const EskfSettings& settings, int descriptor_length,
                                                    std::string* error);
+
+// The SEIF's maker (backend/slam_backend_maker.hpp): backend_algorithm seif,
+// the ES-EKF's host logic over this information-form storage.
+std::unique_ptr<SlamBackend> makeSeifBackend(const EskfSettings& settings, int descriptor_length,
+                                             const CameraExtrinsic& extrinsic, std::string* error);
 
 }  // namespace seif
 }  // namespace hapi_eskf
