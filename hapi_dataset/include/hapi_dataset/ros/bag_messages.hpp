@@ -1,8 +1,8 @@
 // The ROS messages every recording tool writes the same way (asl_to_bag here,
 // hapi_sim's make_sim_bag and make_globe_bag): CameraInfo from the plain
 // calibration type, mono8 images, transforms and poses (tf2_eigen's
-// conversions), and the connection header that
-// makes `rosbag play` re-advertise a topic latched.
+// conversions), and the connection header that makes `rosbag play`
+// re-advertise a topic latched.
 #pragma once
 
 #include <geometry_msgs/Pose.h>
