@@ -4,7 +4,7 @@ HAPI_DEBIAN_PACKAGES=(
   build-essential cmake git
   catkin catkin-lint ros-core-dev rosbash python3-roslaunch
   libnodeletlib-dev libnodeletlib-tools python3-nodelet
-  libtf2-ros-dev libtf2-geometry-msgs-dev python3-tf2-ros
+  libtf2-ros-dev libtf2-geometry-msgs-dev libtf2-eigen-dev python3-tf2-ros
   libimage-transport-dev image-transport-tools libcv-bridge-dev libimage-geometry-dev
   libmessage-filters-dev librosbag-dev python3-rosbag
   librostest-dev python3-rostest

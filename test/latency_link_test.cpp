@@ -38,9 +38,7 @@ hapi_eskf::StereoFrame throughTheMessage(const hapi_frontend::StereoFrameResult&
   std_msgs::Header h;
   h.stamp.fromSec(stamp);
   hapi_msgs::StereoLandmarks msg;
-  EXPECT_EQ(hapi_frontend::fillLandmarksMsg(r, hapi_frontend::StereoRig(), 0.24, h, sensor_msgs::CameraInfo(),
-                                            sensor_msgs::CameraInfo(), &msg),
-            "");
+  EXPECT_EQ(hapi_frontend::fillLandmarksMsg(r, h, &msg), "");
   return hapi_eskf::ros_glue::toStereoFrame(msg);
 }
 

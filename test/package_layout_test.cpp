@@ -57,8 +57,7 @@ TEST(PackageLayout, RosmsgShowsStereoLandmarks) {
   ASSERT_EQ(r.status, 0) << r.output;
   for (const char* field : {"std_msgs/Header header", "uint8 descriptor_type", "uint32 descriptor_length",
                             "uint8[] descriptors", "hapi_msgs/StereoLandmark[] landmarks",
-                            "float64[9] position_covariance", "sensor_msgs/CameraInfo left_info",
-                            "sensor_msgs/CameraInfo right_info"}) {
+                            "geometry_msgs/Point position", "float64[9] position_covariance"}) {
     EXPECT_NE(r.output.find(field), std::string::npos) << "missing field '" << field << "' in:\n" << r.output;
   }
 }

@@ -107,9 +107,7 @@ int main(int argc, char** argv) {
         return;
       }
       hapi_msgs::StereoLandmarks msg;
-      std_msgs::Header h = l->header;
-      if (!hapi_frontend::fillLandmarksMsg(res, pipeline.rig(), params.pixel_sigma, h, left_info, right_info, &msg)
-               .empty()) {
+      if (!hapi_frontend::fillLandmarksMsg(res, l->header, &msg).empty()) {
         ++rejected;
         return;
       }

@@ -58,7 +58,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     StereoFrameResult result;
     if (!pipeline.process(l.gray, r.gray, l.colour, &result).empty()) continue;
     hapi_msgs::StereoLandmarks msg;
-    fillLandmarksMsg(result, pipeline.rig(), params.pixel_sigma, left->header, left_info, right_info, &msg);
+    fillLandmarksMsg(result, left->header, &msg);
   }
   return 0;
 }

@@ -31,23 +31,8 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray
 from hapi_msgs.msg import StereoLandmark, StereoLandmarks
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import CameraInfo
 
-FX, FY, CX, CY, BASELINE = 502.3, 501.8, 321.4, 238.7, 0.06
 DESC_LEN = 32
-
-
-def camera_infos(frame):
-    left, right = CameraInfo(), CameraInfo()
-    for ci, tx in ((left, 0.0), (right, -FX * BASELINE)):
-        ci.header.frame_id = frame
-        ci.width, ci.height = 640, 480
-        ci.distortion_model = "plumb_bob"
-        ci.D = [0.0] * 5
-        ci.K = [FX, 0, CX, 0, FY, CY, 0, 0, 1]
-        ci.R = [1, 0, 0, 0, 1, 0, 0, 0, 1]
-        ci.P = [FX, 0, CX, tx, 0, FY, CY, 0, 0, 0, 1, 0]
-    return left, right
 
 
 class Scene(object):
@@ -74,10 +59,6 @@ class Scene(object):
         m.header.frame_id = frame
         m.descriptor_type = StereoLandmarks.DESCRIPTOR_ORB
         m.descriptor_length = DESC_LEN
-        m.left_info, m.right_info = camera_infos(frame)
-        m.R_left_right = [1, 0, 0, 0, 1, 0, 0, 0, 1]
-        m.t_left_right = [BASELINE, 0, 0]
-        m.pixel_sigma = 0.5
         desc = bytearray()
         for i, (x, y, z) in enumerate(self.points):
             # Stereo depth noise grows with z^2; lateral noise is small.
@@ -88,10 +69,6 @@ class Scene(object):
             l.position.y = y + self.rng.gauss(0, sxy)
             l.position.z = z + self.rng.gauss(0, sz)
             l.position_covariance = [sxy * sxy, 0, 0, 0, sxy * sxy, 0, 0, 0, sz * sz]
-            l.u_left = FX * l.position.x / l.position.z + CX
-            l.v_left = FY * l.position.y / l.position.z + CY
-            l.u_right = l.u_left - FX * BASELINE / l.position.z
-            l.v_right = l.v_left
             l.response = 50.0 + i % 17
             l.r = l.g = l.b = 128
             m.landmarks.append(l)

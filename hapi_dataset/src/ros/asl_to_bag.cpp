@@ -28,6 +28,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/String.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -92,19 +93,6 @@ sensor_msgs::ImagePtr loadMono(const std::string& png, const std_msgs::Header& h
     throw std::runtime_error(png + ": " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
                              " differs from sensor.yaml's resolution");
   return cv_bridge::CvImage(h, "mono8", img).toImageMsg();
-}
-
-geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
-  geometry_msgs::Pose p;
-  const Eigen::Quaterniond q(T.linear());
-  p.position.x = T.translation().x();
-  p.position.y = T.translation().y();
-  p.position.z = T.translation().z();
-  p.orientation.x = q.x();
-  p.orientation.y = q.y();
-  p.orientation.z = q.z();
-  p.orientation.w = q.w();
-  return p;
 }
 
 geometry_msgs::TransformStamped toTransform(const ros::Time& t, const std::string& parent, const std::string& child,
@@ -184,12 +172,8 @@ int main(int argc, char** argv) {
         m.header.stamp = t;
         m.header.frame_id = kImu;
         m.orientation_covariance[0] = -1.0;  // no orientation estimate (REP-145)
-        m.angular_velocity.x = s.angular_velocity.x();
-        m.angular_velocity.y = s.angular_velocity.y();
-        m.angular_velocity.z = s.angular_velocity.z();
-        m.linear_acceleration.x = s.linear_acceleration.x();
-        m.linear_acceleration.y = s.linear_acceleration.y();
-        m.linear_acceleration.z = s.linear_acceleration.z();
+        tf2::toMsg(s.angular_velocity, m.angular_velocity);
+        tf2::toMsg(s.linear_acceleration, m.linear_acceleration);
         // Discrete white-noise variance = density^2 * rate; 0 (unknown) when
         // sensor.yaml states no density.
         for (int k = 0; k < 3; ++k) {
@@ -202,19 +186,15 @@ int main(int argc, char** argv) {
         geometry_msgs::PoseStamped gt;
         gt.header.stamp = t;
         gt.header.frame_id = kWorld;
-        gt.pose = toPose(T_W_cam);
+        gt.pose = toPoseMsg(T_W_cam.translation(), Eigen::Quaterniond(T_W_cam.linear()));
         bag.write("/ground_truth/pose", t, gt);
         nav_msgs::Odometry odom;
         odom.header = gt.header;
         odom.child_frame_id = kGt;
         odom.pose.pose = gt.pose;
         const CameraTwist tw = cameraTwistAt(rec.ground_truth, i, rec.cam0);
-        odom.twist.twist.linear.x = tw.linear.x();
-        odom.twist.twist.linear.y = tw.linear.y();
-        odom.twist.twist.linear.z = tw.linear.z();
-        odom.twist.twist.angular.x = tw.angular.x();
-        odom.twist.twist.angular.y = tw.angular.y();
-        odom.twist.twist.angular.z = tw.angular.z();
+        tf2::toMsg(tw.linear, odom.twist.twist.linear);
+        tf2::toMsg(tw.angular, odom.twist.twist.angular);
         bag.write("/ground_truth/odometry", t, odom);
         tf2_msgs::TFMessage tfm;
         tfm.transforms.push_back(toTransform(t, kWorld, kGt, T_W_cam));

@@ -1,6 +1,8 @@
 // Messages shared by the recording tools (see bag_messages.hpp).
 #include "hapi_dataset/ros/bag_messages.hpp"
 
+#include <tf2_eigen/tf2_eigen.h>
+
 #include <algorithm>
 
 namespace hapi_dataset {
@@ -38,14 +40,16 @@ geometry_msgs::TransformStamped toTransformMsg(const ros::Time& t, const std::st
   tf.header.stamp = t;
   tf.header.frame_id = parent;
   tf.child_frame_id = child;
-  tf.transform.translation.x = p.x();
-  tf.transform.translation.y = p.y();
-  tf.transform.translation.z = p.z();
-  tf.transform.rotation.x = q.x();
-  tf.transform.rotation.y = q.y();
-  tf.transform.rotation.z = q.z();
-  tf.transform.rotation.w = q.w();
+  tf2::toMsg(p, tf.transform.translation);
+  tf.transform.rotation = tf2::toMsg(q);
   return tf;
+}
+
+geometry_msgs::Pose toPoseMsg(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  geometry_msgs::Pose m;
+  m.position = tf2::toMsg(p);
+  m.orientation = tf2::toMsg(q);
+  return m;
 }
 
 }  // namespace hapi_dataset

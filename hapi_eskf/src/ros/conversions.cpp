@@ -3,6 +3,7 @@
 #include "hapi_eskf/eskf/motion_model.hpp"
 
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <tf2_eigen/tf2_eigen.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -21,7 +22,7 @@ StereoFrame toStereoFrame(const hapi_msgs::StereoLandmarks& msg) {
   for (std::size_t i = 0; i < msg.landmarks.size(); ++i) {
     const auto& l = msg.landmarks[i];
     StereoMeasurement& m = f.measurements[i];
-    m.z = Vec3(l.position.x, l.position.y, l.position.z);
+    tf2::fromMsg(l.position, m.z);
     m.Cz = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(l.position_covariance.data());
     m.frontend_id = l.id;
     m.response = l.response;
@@ -31,35 +32,22 @@ StereoFrame toStereoFrame(const hapi_msgs::StereoLandmarks& msg) {
 }
 
 Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized()
-                   .toRotationMatrix();
-  T.translation() = Vec3(t.translation.x, t.translation.y, t.translation.z);
-  return T;
+  // Not tf2::transformToEigen: it takes the quaternion as it comes.
+  Eigen::Quaterniond q;
+  Vec3 p;
+  tf2::fromMsg(t.rotation, q);
+  tf2::fromMsg(t.translation, p);
+  return Eigen::Translation3d(p) * q.normalized();
 }
 
-geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
-  geometry_msgs::Transform t;
-  const Eigen::Quaterniond q(T.linear());
-  t.translation.x = T.translation().x();
-  t.translation.y = T.translation().y();
-  t.translation.z = T.translation().z();
-  t.rotation.w = q.w();
-  t.rotation.x = q.x();
-  t.rotation.y = q.y();
-  t.rotation.z = q.z();
-  return t;
-}
+geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) { return tf2::eigenToTransform(T).transform; }
 
 geometry_msgs::Pose toPoseMsg(const Vec3& p, const Eigen::Quaterniond& q) {
+  // Not tf2::toMsg(Isometry3d): that goes through the rotation matrix and
+  // flips the quaternion's sign to w >= 0; the filter's q is published as is.
   geometry_msgs::Pose out;
-  out.position.x = p.x();
-  out.position.y = p.y();
-  out.position.z = p.z();
-  out.orientation.w = q.w();
-  out.orientation.x = q.x();
-  out.orientation.y = q.y();
-  out.orientation.z = q.z();
+  out.position = tf2::toMsg(p);
+  out.orientation = tf2::toMsg(q);
   return out;
 }
 
@@ -106,12 +94,8 @@ geometry_msgs::PoseWithCovariance toPoseWithCovariance(const PoseState& pose, co
 
 geometry_msgs::TwistWithCovariance toTwistWithCovariance(const PoseState& pose, const Mat12& C) {
   geometry_msgs::TwistWithCovariance out;
-  out.twist.linear.x = pose.v.x();
-  out.twist.linear.y = pose.v.y();
-  out.twist.linear.z = pose.v.z();
-  out.twist.angular.x = pose.w.x();
-  out.twist.angular.y = pose.w.y();
-  out.twist.angular.z = pose.w.z();
+  tf2::toMsg(pose.v, out.twist.linear);
+  tf2::toMsg(pose.w, out.twist.angular);
   toCovarianceMsg(C.block<6, 6>(kIdxV, kIdxV), &out.covariance);
   return out;
 }

@@ -5,6 +5,7 @@
 #include "hapi_eskf/ros/conversions.hpp"
 
 #include <ros/console.h>
+#include <tf2_eigen/tf2_eigen.h>
 
 #include <cmath>
 #include <cstdint>
@@ -38,8 +39,9 @@ void ImuInput::count(NodeletStatistics::Counter& reason) {
 
 std::optional<TimedImuSample> ImuInput::accept(const sensor_msgs::Imu& msg) {
   NodeletStatistics::Counters& c = stats_.counters;
-  const Vec3 w(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z);
-  const Vec3 f(msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z);
+  Vec3 w, f;
+  tf2::fromMsg(msg.angular_velocity, w);
+  tf2::fromMsg(msg.linear_acceleration, f);
   const double stamp = msg.header.stamp.toSec();
   if (!w.allFinite() || !f.allFinite() || !std::isfinite(stamp)) {
     count(c.imu_invalid);

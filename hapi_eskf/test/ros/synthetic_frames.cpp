@@ -29,7 +29,6 @@ hapi_msgs::StereoLandmarks SyntheticScene::frame(double t, const ros::Time& stam
   m.header.frame_id = frame_id;
   m.descriptor_type = hapi_msgs::StereoLandmarks::DESCRIPTOR_ORB;
   m.descriptor_length = 32;
-  m.pixel_sigma = 0.5;
   const Eigen::Isometry3d T_wc = pose(t);
   const Eigen::Isometry3d T_cw = T_wc.inverse();
   std::normal_distribution<double> noise(0.0, sigma_);

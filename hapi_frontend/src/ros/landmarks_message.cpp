@@ -1,13 +1,13 @@
 #include "landmarks_message.hpp"
 
-#include <cmath>
+#include <tf2_eigen/tf2_eigen.h>
+
 #include <cstring>
 
 namespace hapi_frontend {
 
-std::string fillLandmarksMsg(const StereoFrameResult& res, const StereoRig& rig, double pixel_sigma,
-                             const std_msgs::Header& header, const sensor_msgs::CameraInfo& left_info,
-                             const sensor_msgs::CameraInfo& right_info, hapi_msgs::StereoLandmarks* msg) {
+std::string fillLandmarksMsg(const StereoFrameResult& res, const std_msgs::Header& header,
+                             hapi_msgs::StereoLandmarks* msg) {
   const std::string problem = publishProblem(res);
   if (!problem.empty()) return problem;
   const size_t n = res.landmarks.size();
@@ -26,13 +26,7 @@ std::string fillLandmarksMsg(const StereoFrameResult& res, const StereoRig& rig,
     const StereoLandmarkOut& in = res.landmarks[i];
     hapi_msgs::StereoLandmark& o = msg->landmarks[i];
     o.id = static_cast<uint32_t>(i);
-    o.u_left = in.uv_left.x();
-    o.v_left = in.uv_left.y();
-    o.u_right = in.uv_right.x();
-    o.v_right = in.uv_right.y();
-    o.position.x = in.position.x();
-    o.position.y = in.position.y();
-    o.position.z = in.position.z();
+    o.position = tf2::toMsg(in.position);
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) o.position_covariance[3 * r + c] = in.covariance(r, c);
     o.response = in.response;
@@ -40,14 +34,6 @@ std::string fillLandmarksMsg(const StereoFrameResult& res, const StereoRig& rig,
     o.g = in.rgb[1];
     o.b = in.rgb[2];
   }
-
-  msg->left_info = left_info;
-  msg->right_info = right_info;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) msg->R_left_right[3 * r + c] = rig.R_lr(r, c);
-    msg->t_left_right[r] = rig.t_lr(r);
-  }
-  msg->pixel_sigma = pixel_sigma;
   return "";
 }
 

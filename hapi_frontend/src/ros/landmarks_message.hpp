@@ -5,7 +5,6 @@
 #include "hapi_frontend/stereo_pipeline.hpp"
 
 #include <hapi_msgs/StereoLandmarks.h>
-#include <sensor_msgs/CameraInfo.h>
 #include <std_msgs/Header.h>
 
 #include <string>
@@ -15,8 +14,7 @@ namespace hapi_frontend {
 // Fills every field of *msg. Returns a non-empty reason when the core result
 // is internally inconsistent (descriptor rows != landmarks, non-finite
 // values), in which case nothing must be published.
-std::string fillLandmarksMsg(const StereoFrameResult& result, const StereoRig& rig, double pixel_sigma,
-                             const std_msgs::Header& header, const sensor_msgs::CameraInfo& left_info,
-                             const sensor_msgs::CameraInfo& right_info, hapi_msgs::StereoLandmarks* msg);
+std::string fillLandmarksMsg(const StereoFrameResult& result, const std_msgs::Header& header,
+                             hapi_msgs::StereoLandmarks* msg);
 
 }  // namespace hapi_frontend

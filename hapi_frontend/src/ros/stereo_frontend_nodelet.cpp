@@ -242,8 +242,7 @@ void StereoFrontendNodelet::processFrame(const Frame& f) {
   }
 
   auto msg = boost::make_shared<hapi_msgs::StereoLandmarks>();
-  const std::string bad = fillLandmarksMsg(result, pipeline_->rig(), params_.pipeline.pixel_sigma, header,
-                                           *f.left_info, *f.right_info, msg.get());
+  const std::string bad = fillLandmarksMsg(result, header, msg.get());
   if (!bad.empty()) return reject("internal_error", bad);
   diag_.frameProcessed(result);
   pub_.publish(msg);  // shared pointer: zero-copy to nodelets in the same manager

@@ -4,10 +4,10 @@ published by the front end while the globe bag plays (see frontend_globe.test).
 
 Per message: >= ~min_landmarks landmarks, ids 0..N-1, descriptor bytes =
 N * descriptor_length (32 for ORB), finite positions in front of the camera
-within the depth range, symmetric positive-definite covariances, pixels
-inside the image, header.frame_id = the left optical frame, header.stamp equal
-to the stamp of a left image that was published, CameraInfo copies equal to
-the camera_info of that stamp, a proper rig rotation and a non-zero baseline.
+within the depth range whose projection with the left camera_info of that
+stamp lies inside the image, symmetric positive-definite covariances,
+header.frame_id = the left optical frame, header.stamp equal to the stamp of
+a left image that was published.
 """
 import math
 import sys
@@ -59,20 +59,10 @@ class LandmarksContentTest(unittest.TestCase):
         self.assertGreater(len(set(bytes(m.descriptors[i * 32:(i + 1) * 32]) for i in range(n))), n // 2,
                            "descriptors look constant")
         self.assertEqual([l.id for l in m.landmarks], list(range(n)))
-        # CameraInfo copies: exactly what the camera published for this stamp.
         info = self.infos.get(m.header.stamp.to_nsec())
         self.assertIsNotNone(info, "no camera_info seen with the landmarks stamp")
-        self.assertEqual(tuple(m.left_info.K), tuple(info.K))
-        self.assertEqual(tuple(m.left_info.D), tuple(info.D))
-        self.assertEqual(m.left_info.width, info.width)
-        self.assertEqual(m.left_info.header.frame_id, self.frame_id)
-        self.assertGreater(m.right_info.K[0], 0.0)
-        self.assertNotEqual(m.right_info.header.frame_id, "")
-        w, h = m.left_info.width, m.left_info.height
-        R = np.array(m.R_left_right).reshape(3, 3)
-        self.assertTrue(np.allclose(R @ R.T, np.eye(3), atol=1e-6) and np.linalg.det(R) > 0.0)
-        self.assertGreater(np.linalg.norm(m.t_left_right), 1e-3)
-        self.assertGreater(m.pixel_sigma, 0.0)
+        K = np.array(info.K).reshape(3, 3)
+        w, h = info.width, info.height
         prev_response = math.inf
         for l in m.landmarks:
             p = np.array([l.position.x, l.position.y, l.position.z])
@@ -83,9 +73,10 @@ class LandmarksContentTest(unittest.TestCase):
             self.assertTrue(np.all(np.isfinite(C)))
             self.assertTrue(np.allclose(C, C.T, rtol=1e-9, atol=1e-15), "covariance not symmetric")
             self.assertGreater(np.linalg.eigvalsh(C).min(), 0.0, "covariance not positive definite")
-            for u, v in ((l.u_left, l.v_left), (l.u_right, l.v_right)):
-                self.assertTrue(-0.05 * w <= u <= 1.05 * w and -0.05 * h <= v <= 1.05 * h, (u, v))
-            self.assertGreater(l.u_left, l.u_right, "disparity must be positive")
+            # Undistorted keypoint re-projected with K: inside the image up to
+            # what undistortion moves a border pixel.
+            u, v = (K @ p)[:2] / p[2]
+            self.assertTrue(-0.05 * w <= u <= 1.05 * w and -0.05 * h <= v <= 1.05 * h, (u, v))
             self.assertLessEqual(l.response, prev_response, "landmarks not sorted by response")
             prev_response = l.response
 

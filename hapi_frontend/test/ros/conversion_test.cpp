@@ -169,18 +169,12 @@ TEST(LandmarksMessage, FillsEveryField) {
     l.response = 50.f - i;
     l.rgb = {{10, 20, static_cast<uint8_t>(30 + i)}};
   }
-  hf::StereoRig rig;
-  rig.t_lr = {0.12, 0, 0};
   std_msgs::Header h;
   h.stamp = ros::Time(12, 345);
   h.frame_id = "stereo_left_optical_frame";
-  sensor_msgs::CameraInfo li = goodInfo(), ri = goodInfo();
-  li.header.frame_id = "stereo_left_optical_frame";
-  ri.header.frame_id = "stereo_right_optical_frame";
-  ri.P[3] = -400 * 0.12;
 
   hapi_msgs::StereoLandmarks msg;
-  ASSERT_EQ(hf::fillLandmarksMsg(res, rig, 0.7, h, li, ri, &msg), "");
+  ASSERT_EQ(hf::fillLandmarksMsg(res, h, &msg), "");
   EXPECT_EQ(msg.header.stamp, h.stamp);
   EXPECT_EQ(msg.header.frame_id, "stereo_left_optical_frame");
   EXPECT_EQ(msg.descriptor_type, hapi_msgs::StereoLandmarks::DESCRIPTOR_ORB);
@@ -190,20 +184,14 @@ TEST(LandmarksMessage, FillsEveryField) {
   ASSERT_EQ(msg.landmarks.size(), 2u);
   const auto& l1 = msg.landmarks[1];
   EXPECT_EQ(l1.id, 1u);
-  EXPECT_EQ(l1.u_left, 11.0);
-  EXPECT_EQ(l1.v_right, 20.5);
+  EXPECT_EQ(l1.position.x, 0.1);
+  EXPECT_EQ(l1.position.y, -0.2);
   EXPECT_EQ(l1.position.z, 3.0);
   EXPECT_EQ(l1.position_covariance[1], 1e-6);  // row-major (0,1)
   EXPECT_EQ(l1.position_covariance[5], 3e-6);  // (1,2)
   EXPECT_EQ(l1.position_covariance[8], 5e-3);
   EXPECT_FLOAT_EQ(l1.response, 49.f);
   EXPECT_EQ(l1.b, 31);
-  EXPECT_EQ(msg.left_info.header.frame_id, "stereo_left_optical_frame");
-  EXPECT_EQ(msg.right_info.P[3], -48.0);
-  EXPECT_EQ(msg.R_left_right[0], 1.0);
-  EXPECT_EQ(msg.R_left_right[1], 0.0);
-  EXPECT_EQ(msg.t_left_right[0], 0.12);
-  EXPECT_EQ(msg.pixel_sigma, 0.7);
 }
 
 TEST(LandmarksMessage, RejectsInconsistentResults) {
@@ -211,8 +199,8 @@ TEST(LandmarksMessage, RejectsInconsistentResults) {
   res.landmarks.resize(3);
   res.descriptors = cv::Mat(2, 32, CV_8UC1, cv::Scalar(0));
   hapi_msgs::StereoLandmarks msg;
-  EXPECT_NE(hf::fillLandmarksMsg(res, hf::StereoRig(), 1.0, std_msgs::Header(), {}, {}, &msg), "");
+  EXPECT_NE(hf::fillLandmarksMsg(res, std_msgs::Header(), &msg), "");
   res.descriptors = cv::Mat(3, 32, CV_8UC1, cv::Scalar(0));
   res.landmarks[2].position.x() = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(hf::fillLandmarksMsg(res, hf::StereoRig(), 1.0, std_msgs::Header(), {}, {}, &msg), "");
+  EXPECT_NE(hf::fillLandmarksMsg(res, std_msgs::Header(), &msg), "");
 }

@@ -1,6 +1,8 @@
 // Message conversions shared by the bag writers (see bag_messages.hpp).
 #include "bag_messages.hpp"
 
+#include <tf2_eigen/tf2_eigen.h>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -21,20 +23,10 @@ nav_msgs::Odometry toOdometryMsg(const ros::Time& t, const std::string& frame, c
   o.header.stamp = t;
   o.header.frame_id = frame;
   o.child_frame_id = child;
-  o.pose.pose.position.x = m.p.x();
-  o.pose.pose.position.y = m.p.y();
-  o.pose.pose.position.z = m.p.z();
-  o.pose.pose.orientation.x = m.q.x();
-  o.pose.pose.orientation.y = m.q.y();
-  o.pose.pose.orientation.z = m.q.z();
-  o.pose.pose.orientation.w = m.q.w();
+  o.pose.pose = toPoseMsg(m.p, m.q);
   const Eigen::Vector3d v_child = m.q.conjugate() * m.v;  // REP-105: twist in the child frame
-  o.twist.twist.linear.x = v_child.x();
-  o.twist.twist.linear.y = v_child.y();
-  o.twist.twist.linear.z = v_child.z();
-  o.twist.twist.angular.x = m.omega.x();
-  o.twist.twist.angular.y = m.omega.y();
-  o.twist.twist.angular.z = m.omega.z();
+  tf2::toMsg(v_child, o.twist.twist.linear);
+  tf2::toMsg(m.omega, o.twist.twist.angular);
   return o;
 }
 

@@ -26,6 +26,7 @@ using hapi_dataset::latchedHeader;
 using hapi_dataset::parseNumberArg;
 using hapi_dataset::toCameraInfoMsg;
 using hapi_dataset::toImageMsg;
+using hapi_dataset::toPoseMsg;
 using hapi_dataset::toTransformMsg;
 
 // nav_msgs/Odometry (REP-105): pose of child in frame_id, twist in child.

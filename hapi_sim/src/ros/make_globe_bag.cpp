@@ -25,6 +25,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/String.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <cmath>
@@ -169,8 +170,8 @@ int main(int argc, char** argv) {
       Eigen::Vector3d w, a;
       for (int i = 0; i < 3; ++i) w[i] = s.omega_c[i] + bg[i] + sg * imu_rng.normal();
       for (int i = 0; i < 3; ++i) a[i] = f[i] + ba[i] + sa * imu_rng.normal();
-      m.angular_velocity.x = w.x(); m.angular_velocity.y = w.y(); m.angular_velocity.z = w.z();
-      m.linear_acceleration.x = a.x(); m.linear_acceleration.y = a.y(); m.linear_acceleration.z = a.z();
+      tf2::toMsg(w, m.angular_velocity);
+      tf2::toMsg(a, m.linear_acceleration);
       for (int i = 0; i < 3; ++i) {
         m.angular_velocity_covariance[4 * i] = sg * sg;
         m.linear_acceleration_covariance[4 * i] = sa * sa;
@@ -192,9 +193,7 @@ int main(int argc, char** argv) {
     geometry_msgs::PoseStamped gt;
     gt.header.stamp = stamp;
     gt.header.frame_id = kWorld;
-    gt.pose.position.x = Pl.p.x(); gt.pose.position.y = Pl.p.y(); gt.pose.position.z = Pl.p.z();
-    gt.pose.orientation.x = Pl.q.x(); gt.pose.orientation.y = Pl.q.y();
-    gt.pose.orientation.z = Pl.q.z(); gt.pose.orientation.w = Pl.q.w();
+    gt.pose = hapi_sim::toPoseMsg(Pl.p, Pl.q);
     bag.write("/ground_truth/pose", stamp, gt);
     tf2_msgs::TFMessage tfm;
     tfm.transforms.push_back(hapi_sim::toTransformMsg(stamp, kWorld, kGt, Pl.p, Pl.q));

@@ -27,6 +27,7 @@
 #include <rosbag/bag.h>
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/String.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <cmath>
@@ -148,8 +149,8 @@ int main(int argc, char** argv) {
           m.header.stamp = stamp;
           m.header.frame_id = kImu;
           m.orientation_covariance[0] = -1.0;  // no orientation estimate (REP-145)
-          m.angular_velocity.x = r.gyro.x(); m.angular_velocity.y = r.gyro.y(); m.angular_velocity.z = r.gyro.z();
-          m.linear_acceleration.x = r.accel.x(); m.linear_acceleration.y = r.accel.y(); m.linear_acceleration.z = r.accel.z();
+          tf2::toMsg(r.gyro, m.angular_velocity);
+          tf2::toMsg(r.accel, m.linear_acceleration);
           for (int a = 0; a < 3; ++a) {
             m.angular_velocity_covariance[4 * a] = sg2;
             m.linear_acceleration_covariance[4 * a] = sa2;
@@ -170,9 +171,7 @@ int main(int argc, char** argv) {
             geometry_msgs::PoseStamped gt;
             gt.header.stamp = truth_stamp;
             gt.header.frame_id = kWorld;
-            gt.pose.position.x = P.p.x(); gt.pose.position.y = P.p.y(); gt.pose.position.z = P.p.z();
-            gt.pose.orientation.x = P.q.x(); gt.pose.orientation.y = P.q.y();
-            gt.pose.orientation.z = P.q.z(); gt.pose.orientation.w = P.q.w();
+            gt.pose = toPoseMsg(P.p, P.q);
             bag->write("/ground_truth/pose", truth_stamp, gt);
             tf2_msgs::TFMessage tfm;
             tfm.transforms.push_back(toTransformMsg(truth_stamp, kWorld, kGt, P.p, P.q));

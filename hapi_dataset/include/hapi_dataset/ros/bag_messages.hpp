@@ -1,9 +1,11 @@
 // The ROS messages every recording tool writes the same way (asl_to_bag here,
 // hapi_sim's make_sim_bag and make_globe_bag): CameraInfo from the plain
-// calibration type, mono8 images, transforms, and the connection header that
-// makes `rosbag play` re-advertise a topic latched.
+// calibration type, mono8 images, transforms and poses (tf2_eigen's
+// conversions), and the connection header that makes `rosbag play`
+// re-advertise a topic latched.
 #pragma once
 
+#include <geometry_msgs/Pose.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/message_traits.h>
 #include <ros/time.h>
@@ -34,6 +36,9 @@ sensor_msgs::CameraInfo toCameraInfoMsg(const CameraInfoData& d, const std_msgs:
 sensor_msgs::Image toImageMsg(const cv::Mat& mono8, const std_msgs::Header& h);
 geometry_msgs::TransformStamped toTransformMsg(const ros::Time& t, const std::string& parent, const std::string& child,
                                                const Eigen::Vector3d& p, const Eigen::Quaterniond& q);
+// Position and quaternion as they are (tf2::toMsg of an Isometry3d would go
+// through the rotation matrix and flip the sign to w >= 0).
+geometry_msgs::Pose toPoseMsg(const Eigen::Vector3d& p, const Eigen::Quaterniond& q);
 
 // Latched connections (tf_static, calibration and scene descriptions) need an
 // explicit connection header so that `rosbag play` re-advertises them latched.

@@ -22,8 +22,8 @@ namespace ros_glue {
 // validateLandmarks; nothing is re-checked here).
 StereoFrame toStereoFrame(const hapi_msgs::StereoLandmarks& msg);
 
-// geometry_msgs/Transform <-> rigid transform (the quaternion is normalised
-// on the way in: TF carries it as four independent doubles).
+// geometry_msgs/Transform <-> rigid transform (tf2_eigen; the quaternion is
+// normalised on the way in: TF carries it as four independent doubles).
 Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t);
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
 // A position + orientation as a geometry_msgs::Pose (the one place where an
