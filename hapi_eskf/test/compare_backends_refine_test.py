@@ -3,7 +3,7 @@
 steps of its synthetic orbit: the ES-EKF's run recorded as a graph and Graph
 SLAM's own graph are batch-refined and scored before and after on the same
 frames and landmarks. Checked: every refine_* figure is there and finite,
-the refinement does not raise the cost, it scores every frame, the
+the refinement lowers the cost, it scores every frame, the
 landmarks' figures are over more than the final pool, the refined map is
 within 10 % of the online one (the stream's noise is exactly the stated
 C_z, so both are close to the truth), and a back end without a graph (SEIF)
@@ -47,8 +47,10 @@ def main():
             if not int(m["refine_landmarks"]) > int(m["final_map_n"]):
                 failures.append("%s: %s landmarks scored, not more than the final pool's %s"
                                 % (algorithm, m["refine_landmarks"], m["final_map_n"]))
-            if float(m["refine_cost_after"]) > float(m["refine_cost_before"]):
-                failures.append("%s: the refinement raised the cost %s -> %s"
+            # The online estimate is not the batch optimum: a refinement that
+            # ran lowers the cost; an unchanged one means it did not run.
+            if not float(m["refine_cost_after"]) < float(m["refine_cost_before"]):
+                failures.append("%s: the refinement did not lower the cost %s -> %s"
                                 % (algorithm, m["refine_cost_before"], m["refine_cost_after"]))
             before, after = float(m["refine_before_map_m"]), float(m["refine_after_map_m"])
             if not after < 1.1 * before:
