@@ -91,3 +91,27 @@ function(hapi_add_core_gtest name)
   set_tests_properties(${test_name} PROPERTIES
     SKIP_REGULAR_EXPRESSION "\\[ HAPI ALL SKIPPED \\]" LABELS ${ARG_LABEL})
 endfunction()
+
+# Every ctest entry carries exactly one label: unit (ROS-free gtests, tests of
+# scripts), system (rostests, launch files, the pipeline end to end),
+# reliability (two hosts, link outage, fuzzed input to the running nodelet),
+# sanitizer (the instrumented build, its gtests and the fuzz smoke runs).
+# `scripts/test.sh --quick` runs unit and system; test/ctest_labels_test.py
+# fails on an entry without exactly one of them.
+# hapi_label_tests(label): at the end of a CMakeLists, gives every test of
+# this folder that has no label yet `label`; a rostest among them is
+# `system` where `label` is unit.
+function(hapi_label_tests label)
+  get_property(tests DIRECTORY PROPERTY TESTS)
+  foreach(t IN LISTS tests)
+    get_test_property(${t} LABELS have)
+    if(have)
+      continue()
+    endif()
+    set(l ${label})
+    if(l STREQUAL "unit" AND t MATCHES "^_ctest_.*_rostest_")
+      set(l system)
+    endif()
+    set_tests_properties(${t} PROPERTIES LABELS ${l})
+  endforeach()
+endfunction()
