@@ -19,8 +19,7 @@ def main():
     rospy.init_node("hapi_kill_node")
     node = rospy.get_param("~node", "/hapi_manager")
     after = float(rospy.get_param("~after", 2.0))
-    first = rospy.wait_for_message(rospy.get_param("~after_topic", "/eskf/odom"), AnyMsg)
-    del first
+    rospy.wait_for_message(rospy.get_param("~after_topic", "/eskf/odom"), AnyMsg)
     start = rospy.get_time()
     while not rospy.is_shutdown() and rospy.get_time() - start < after:
         rospy.sleep(0.05)
