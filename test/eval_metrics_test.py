@@ -261,7 +261,7 @@ class RunVerdictTest(unittest.TestCase):
     """evaluate_run.failed_checks: a complete run passes, a partial one (the
     back end died 2 s into the 15 s bag) fails on its coverage."""
     BOUNDS = {"max_ate_fraction": 0.02, "max_position_error": None, "max_map_rms": 0.01,
-              "min_pose_coverage": 0.9, "max_end_gap": 1.0}
+              "min_pose_coverage": 0.5, "max_end_gap": 1.0}
     GOOD = {"ended": True, "odom_messages": 150, "odom_stamps_not_increasing": 0, "gt_messages": 150,
             "poses_compared": 148, "pose_coverage": 148 / 150, "odom_end_gap_s": 0.0, "nodes_not_answering": [],
             "ate_rmse_m": 0.01, "ate_max_m": 0.02, "ate_fraction_of_distance": 0.005, "map_points": 500,

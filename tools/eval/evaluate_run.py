@@ -314,7 +314,7 @@ class PipelineAccuracyTest(unittest.TestCase):
         bounds = {"max_ate_fraction": rospy.get_param("~max_ate_fraction", 0.02),
                   "max_position_error": rospy.get_param("~max_position_error", None),
                   "max_map_rms": rospy.get_param("~max_map_rms", 0.01),
-                  "min_pose_coverage": rospy.get_param("~min_pose_coverage", 0.9),
+                  "min_pose_coverage": rospy.get_param("~min_pose_coverage", 0.5),
                   "max_end_gap": rospy.get_param("~max_end_gap", 1.0)}
         failed = failed_checks(res, bounds)
         expected = rospy.get_param("~expect_failures", [])

@@ -35,7 +35,7 @@ class LandmarksContentTest(unittest.TestCase):
         self.min_landmarks = rospy.get_param("~min_landmarks", 150)
         self.min_messages = rospy.get_param("~min_messages", 20)
         self.timeout = rospy.get_param("~timeout", 60.0)
-        self.min_frame_fraction = rospy.get_param("~min_frame_fraction", 0.9)
+        self.min_frame_fraction = rospy.get_param("~min_frame_fraction", 0.5)
         rospy.Subscriber(rospy.get_param("~image_topic"), Image, self.on_image, queue_size=100)
         rospy.Subscriber(rospy.get_param("~info_topic"), CameraInfo, self.on_info, queue_size=100)
         rospy.Subscriber(rospy.get_param("~topic"), StereoLandmarks, self.on_landmarks, queue_size=100)
