@@ -273,6 +273,15 @@ class RunVerdictTest(unittest.TestCase):
         import evaluate_run
         self.assertEqual(evaluate_run.failed_checks(self.GOOD, self.BOUNDS), {})
 
+    def test_truth_coverage_counts_each_frame_once(self):
+        import evaluate_run
+        gt = np.arange(0.0, 10.0, 0.1)
+        imu_rate = np.arange(0.0, 10.0, 0.005)  # 20 estimates a frame
+        self.assertAlmostEqual(evaluate_run.truth_coverage(imu_rate, gt, 0.006), 1.0)
+        self.assertAlmostEqual(evaluate_run.truth_coverage(imu_rate[imu_rate < 1.99], gt, 0.006), 0.2)
+        self.assertAlmostEqual(evaluate_run.truth_coverage(gt[::2] + 0.001, gt, 0.006), 0.5)
+        self.assertEqual(evaluate_run.truth_coverage([], gt, 0.006), 0.0)
+
     def test_partial_run_fails(self):
         import evaluate_run
         partial = dict(self.GOOD, odom_messages=20, poses_compared=20, pose_coverage=20 / 150, odom_end_gap_s=13.0,

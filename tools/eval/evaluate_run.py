@@ -54,6 +54,23 @@ import scene_geometry  # noqa: E402
 import trajectory_io as tio  # noqa: E402
 
 
+MAX_DT = 0.006  # [s] an estimate and a truth pose this close in time are compared
+
+
+def truth_coverage(est_t, gt_t, max_dt):
+    """Fraction of the ground-truth poses (one a frame) that have an estimate
+    within max_dt (the odometry may come at the IMU's rate: several
+    estimates near one frame count once)."""
+    gt_t = np.asarray(gt_t, dtype=float)
+    est_t = np.sort(np.asarray(est_t, dtype=float))
+    if not len(gt_t) or not len(est_t):
+        return 0.0
+    i = np.searchsorted(est_t, gt_t)
+    before, after = est_t[np.clip(i - 1, 0, len(est_t) - 1)], est_t[np.clip(i, 0, len(est_t) - 1)]
+    nearest = np.minimum(np.abs(before - gt_t), np.abs(after - gt_t))
+    return float(np.mean(nearest <= max_dt))
+
+
 class RunCollector:
     def __init__(self):
         self.lock = threading.Lock()
@@ -189,12 +206,12 @@ class RunCollector:
             res["odom_rate_sim_hz"] = (odom_count - 1) / (est["t"][-1] - est["t"][0])
         if wall > 0:
             res["odom_rate_wall_hz"] = (odom_count - 1) / wall
-        metrics, series = run_analysis.analyse(est, gt, max_dt=0.006, scene=self.scene(), map_points=map_points,
+        metrics, series = run_analysis.analyse(est, gt, max_dt=MAX_DT, scene=self.scene(), map_points=map_points,
                                                gt_twist=gt_twist if len(gt_twist["t"]) else None)
         res.update(metrics)
         # Coverage of the bag: the truth has one pose per frame, over the whole bag.
         if len(gt["t"]):
-            res["pose_coverage"] = res.get("poses_compared", 0) / len(gt["t"])
+            res["pose_coverage"] = truth_coverage(est["t"], gt["t"], MAX_DT)
             if len(est["t"]):
                 res["odom_end_gap_s"] = float(np.max(gt["t"]) - np.max(est["t"]))
         if "map_points" not in res and map_points is not None and len(map_points) > 0:
