@@ -57,22 +57,61 @@ if(NOT catkin_FOUND AND HAPI_GTEST_SOURCE_DIR AND NOT TARGET GTest::gtest)
 endif()
 
 # gtest for the ROS-free build (catkin brings its own via catkin_add_gtest).
-# hapi_add_core_gtest(name SOURCES ... LIBS ...) registers a gtest in both worlds.
+# hapi_add_core_gtest(name SOURCES ... LIBS ... [LABEL l]) registers a gtest in
+# both worlds, with test/gtest/hapi_gtest_main.cpp as its main(): a binary
+# whose every test skipped (no CUDA device, a back end not built) shows as
+# skipped in ctest, not passed. LABEL is the ctest label (default unit).
+set(HAPI_GTEST_SUPPORT_DIR ${CMAKE_CURRENT_LIST_DIR}/../test/gtest)
 function(hapi_add_core_gtest name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "LABEL" "SOURCES;LIBS" ${ARGN})
+  if(NOT ARG_LABEL)
+    set(ARG_LABEL unit)
+  endif()
+  set(main ${HAPI_GTEST_SUPPORT_DIR}/hapi_gtest_main.cpp)
   if(catkin_FOUND AND COMMAND catkin_add_gtest)
-    if(CATKIN_ENABLE_TESTING)
-      catkin_add_gtest(${name} ${ARG_SOURCES})
-      if(TARGET ${name})
-        target_link_libraries(${name} ${ARG_LIBS} GTest::gtest_main)
-      endif()
+    if(NOT CATKIN_ENABLE_TESTING)
+      return()
     endif()
+    catkin_add_gtest(${name} ${ARG_SOURCES} ${main})
+    if(NOT TARGET ${name})
+      return()
+    endif()
+    target_link_libraries(${name} ${ARG_LIBS} GTest::gtest)
+    set(test_name _ctest_${PROJECT_NAME}_gtest_${name})
   else()
     if(NOT TARGET GTest::gtest)
       find_package(GTest REQUIRED)
     endif()
-    add_executable(${name} ${ARG_SOURCES})
-    target_link_libraries(${name} ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+    add_executable(${name} ${ARG_SOURCES} ${main})
+    target_link_libraries(${name} ${ARG_LIBS} GTest::gtest)
     add_test(NAME ${name} COMMAND ${name})
+    set(test_name ${name})
   endif()
+  target_include_directories(${name} PRIVATE ${HAPI_GTEST_SUPPORT_DIR})
+  set_tests_properties(${test_name} PROPERTIES
+    SKIP_REGULAR_EXPRESSION "\\[ HAPI ALL SKIPPED \\]" LABELS ${ARG_LABEL})
+endfunction()
+
+# Every ctest entry carries exactly one label: unit (ROS-free gtests, tests of
+# scripts), system (rostests, launch files, the pipeline end to end),
+# reliability (two hosts, link outage, fuzzed input to the running nodelet),
+# sanitizer (the instrumented build, its gtests and the fuzz smoke runs).
+# `scripts/test.sh --quick` runs unit and system; test/ctest_labels_test.py
+# fails on an entry without exactly one of them.
+# hapi_label_tests(label): at the end of a CMakeLists, gives every test of
+# this folder that has no label yet `label`; a rostest among them is
+# `system` where `label` is unit.
+function(hapi_label_tests label)
+  get_property(tests DIRECTORY PROPERTY TESTS)
+  foreach(t IN LISTS tests)
+    get_test_property(${t} LABELS have)
+    if(have)
+      continue()
+    endif()
+    set(l ${label})
+    if(l STREQUAL "unit" AND t MATCHES "^_ctest_.*_rostest_")
+      set(l system)
+    endif()
+    set_tests_properties(${t} PROPERTIES LABELS ${l})
+  endforeach()
 endfunction()

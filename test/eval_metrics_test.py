@@ -257,5 +257,38 @@ class VelocityTest(unittest.TestCase):
         self.assertEqual(rep["velocity_samples"], len(t))
 
 
+class RunVerdictTest(unittest.TestCase):
+    """evaluate_run.failed_checks: a complete run passes, a partial one (the
+    back end died 2 s into the 15 s bag) fails on its coverage."""
+    BOUNDS = {"max_ate_fraction": 0.02, "max_position_error": None, "max_map_rms": 0.01,
+              "min_pose_coverage": 0.5, "max_end_gap": 1.0}
+    GOOD = {"ended": True, "odom_messages": 150, "odom_stamps_not_increasing": 0, "gt_messages": 150,
+            "poses_compared": 148, "pose_coverage": 148 / 150, "odom_end_gap_s": 0.0, "nodes_not_answering": [],
+            "ate_rmse_m": 0.01, "ate_max_m": 0.02, "ate_fraction_of_distance": 0.005, "map_points": 500,
+            "map_rms_to_sphere_m": 0.004,
+            "latency": {k: {"p50": 20.0, "p99": 40.0, "max": 50.0}
+                        for k in ("image_to_landmarks_ms", "image_to_odometry_ms")}}
+
+    def test_complete_run_passes(self):
+        import evaluate_run
+        self.assertEqual(evaluate_run.failed_checks(self.GOOD, self.BOUNDS), {})
+
+    def test_truth_coverage_counts_each_frame_once(self):
+        import evaluate_run
+        gt = np.arange(0.0, 10.0, 0.1)
+        imu_rate = np.arange(0.0, 10.0, 0.005)  # 20 estimates a frame
+        self.assertAlmostEqual(evaluate_run.truth_coverage(imu_rate, gt, 0.006), 1.0)
+        self.assertAlmostEqual(evaluate_run.truth_coverage(imu_rate[imu_rate < 1.99], gt, 0.006), 0.2)
+        self.assertAlmostEqual(evaluate_run.truth_coverage(gt[::2] + 0.001, gt, 0.006), 0.5)
+        self.assertEqual(evaluate_run.truth_coverage([], gt, 0.006), 0.0)
+
+    def test_partial_run_fails(self):
+        import evaluate_run
+        partial = dict(self.GOOD, odom_messages=20, poses_compared=20, pose_coverage=20 / 150, odom_end_gap_s=13.0,
+                       nodes_not_answering=["/hapi_manager"])
+        self.assertEqual(sorted(evaluate_run.failed_checks(partial, self.BOUNDS)), ["coverage", "end", "nodes"])
+        self.assertIn("ate", evaluate_run.failed_checks(dict(self.GOOD, ate_fraction_of_distance=0.05), self.BOUNDS))
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -3,12 +3,14 @@
 // as a user sees them after sourcing the workspace.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -71,16 +73,21 @@ TEST(PackageLayout, DeclaredNodeletsListOurNodelets) {
   const CommandResult r = runCommand("rosrun nodelet declared_nodelets");
   ASSERT_EQ(r.status, 0) << r.output;
   const std::regex name_re("name=\"([A-Za-z0-9_/]+)\"");
-  int exported = 0;
-  for (const auto& pkg : {"hapi_eskf", "hapi_frontend"}) {
-    const std::string xml = readFile(std::string(HAPI_SOURCE_DIR) + "/" + pkg + "/nodelet_plugins.xml");
-    for (std::sregex_iterator it(xml.begin(), xml.end(), name_re), end; it != end; ++it) {
-      const std::string name = (*it)[1];
-      ++exported;
+  // The nodelets the launch files load: each package must export its own.
+  const std::vector<std::pair<std::string, std::string>> kExports = {{"hapi_eskf", "hapi_eskf/EskfNodelet"},
+                                                                     {"hapi_frontend", "hapi_frontend/StereoFrontendNodelet"}};
+  for (const auto& [pkg, required] : kExports) {
+    const std::string path = std::string(HAPI_SOURCE_DIR) + "/" + pkg + "/nodelet_plugins.xml";
+    std::ifstream f(path);
+    ASSERT_TRUE(f.good()) << "cannot read " << path << ": " << pkg << " exports no nodelet";
+    const std::string xml = readFile(path);
+    std::vector<std::string> names;
+    for (std::sregex_iterator it(xml.begin(), xml.end(), name_re), end; it != end; ++it) names.push_back((*it)[1]);
+    EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << path << " does not export " << required;
+    for (const auto& name : names) {
       EXPECT_NE(r.output.find(name), std::string::npos)
           << name << " not declared (rospkg needs a rosdep view in $ROS_HOME/rosdep: scripts/rosdep_offline.sh):\n"
           << r.output;
     }
   }
-  if (exported == 0) GTEST_SKIP() << "no package exports a nodelet yet";
 }

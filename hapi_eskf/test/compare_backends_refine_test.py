@@ -3,9 +3,9 @@
 steps of its synthetic orbit: the ES-EKF's run recorded as a graph and Graph
 SLAM's own graph are batch-refined and scored before and after on the same
 frames and landmarks. Checked: every refine_* figure is there and finite,
-the refinement does not raise the cost, it scores every frame, the
+the refinement lowers the cost, it scores every frame, the
 landmarks' figures are over more than the final pool, the refined map is
-within 10 % of the online one (the stream's noise is exactly the stated
+within 2 % of the online one (the stream's noise is exactly the stated
 C_z, so both are close to the truth), and a back end without a graph (SEIF)
 is refused.
 
@@ -42,16 +42,24 @@ def main():
             if missing:
                 failures.append("%s: missing or not finite: %s" % (algorithm, " ".join(missing)))
                 continue
+            print("%s: cost %s -> %s, map MAE %.3f -> %.3f mm, position MAE %.3f -> %.3f mm" % (
+                algorithm, m["refine_cost_before"], m["refine_cost_after"], 1e3 * float(m["refine_before_map_m"]),
+                1e3 * float(m["refine_after_map_m"]), 1e3 * float(m["refine_before_pos_m"]),
+                1e3 * float(m["refine_after_pos_m"])))
             if int(m["refine_frames"]) != FRAMES:
                 failures.append("%s: %s frames scored, expected %d" % (algorithm, m["refine_frames"], FRAMES))
             if not int(m["refine_landmarks"]) > int(m["final_map_n"]):
                 failures.append("%s: %s landmarks scored, not more than the final pool's %s"
                                 % (algorithm, m["refine_landmarks"], m["final_map_n"]))
-            if float(m["refine_cost_after"]) > float(m["refine_cost_before"]):
-                failures.append("%s: the refinement raised the cost %s -> %s"
+            # The online estimate is not the batch optimum: a refinement that
+            # ran lowers the cost; an unchanged one means it did not run.
+            if not float(m["refine_cost_after"]) < float(m["refine_cost_before"]):
+                failures.append("%s: the refinement did not lower the cost %s -> %s"
                                 % (algorithm, m["refine_cost_before"], m["refine_cost_after"]))
+            # Both refinements reach the same batch optimum; measured 0.979 mm
+            # after against 0.979 (eskf) and 0.974 mm (graph) before.
             before, after = float(m["refine_before_map_m"]), float(m["refine_after_map_m"])
-            if not after < 1.1 * before:
+            if not after < 1.02 * before:
                 failures.append("%s: refined map MAE %.3g mm against %.3g mm before" % (algorithm, 1e3 * after,
                                                                                        1e3 * before))
         seif = subprocess.run([tool, "--synthetic-orbit", "--algorithm", "seif", "--out", out, "--frames", "3",

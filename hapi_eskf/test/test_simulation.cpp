@@ -153,13 +153,16 @@ void checkMonteCarlo(const EskfSettings& s) {
   EXPECT_LT(rmse_r, 0.005);
 }
 
-TEST(Simulation, PoseAccurateAndNeesConsistentOver30MonteCarloRuns) { checkMonteCarlo(scenarioSettings()); }
+// A regression pin, not a consistency test (checkMonteCarlo says why): the
+// NEES band holds on this seed set, not on every one.
+TEST(Simulation, PoseAccurateAndNeesPinnedOnSeeds1000To1029) { checkMonteCarlo(scenarioSettings()); }
 
 // The e2e configuration's association and start-up (config/eskf.yaml): the
-// RANSAC consistency step must keep the filter consistent (it only removes
-// pairs off the best rigid fit, ~1 % of the correct ones at chi^2 99 %) and a
-// larger first batch of landmarks must not change that.
-TEST(Simulation, ConsistentWithRansacAndBootstrap) {
+// RANSAC consistency step must not move the pinned figures out of their
+// bounds (it only removes pairs off the best rigid fit, ~1 % of the correct
+// ones at chi^2 99 %), and a larger first batch of landmarks must not either.
+// The same regression pin on the same seeds as above.
+TEST(Simulation, RansacAndBootstrapKeepThePinnedNees) {
   EskfSettings s = scenarioSettings();
   s.ransac_iterations = 200;
   s.bootstrap_landmarks = 60;

@@ -340,6 +340,6 @@ fi
 # ------------------------------------------------------------- verdict
 python3 "$REPO/test/reliability/two_hosts_verdict.py" --out "$OUT" --bag-len "$BAG_LEN" --link "$IMPAIR" \
   --link-kind "$LINK_KIND" --kill-wall "$KILL_WALL" --restart-wall "$RESTART_WALL" \
-  --manager-pids "$MGR_PID_START" "$MGR_PID_END" --bag "$BAG" --max-step-error "${HAPI_MAX_STEP_ERROR:-0.5}" |
+  --manager-pids "$MGR_PID_START" "$MGR_PID_END" --bag "$BAG" --max-motion-error "${HAPI_MAX_MOTION_ERROR:-0.25}" |
   tee "$OUT/report.txt"
 exit "${PIPESTATUS[0]}"

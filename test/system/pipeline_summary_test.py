@@ -123,6 +123,10 @@ class PipelineSummaryTest(unittest.TestCase):
         self.assertIn("scene geometry unknown", out)
         rc, out = self.run_summary(no_map, self.diag)
         self.assertEqual(rc, 1, out)
+        # An empty map is not a recording without geometry.
+        rc, out = self.run_summary(dict(no_map, map_points=0), self.diag, "--map-error", "if-known")
+        self.assertEqual(rc, 1, out)
+        self.assertIn("MISSING: map error (no map received)", out)
         # The further metrics are printed when the report has them.
         rich = dict(GOOD, ate_sim3_rmse_m=0.009, sim3_scale=1.01, rotation_rmse_deg=0.5, rotation_max_deg=1.0,
                     nees_position={"mean": 3.1, "mean_bounds_95": [2.8, 3.2], "fraction_in_95_band": 0.94,

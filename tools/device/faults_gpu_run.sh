@@ -8,6 +8,8 @@
 #   tools/device/faults_gpu_run.sh [STREAM.txt|--synthetic-orbit=SEED,frames=N,...]
 #   (carry .device/eigen3 and .device/googletest, see prepare.sh)
 set -uo pipefail
+# A device test that skips for want of a GPU fails here (test/gtest/hapi_test/skip.hpp).
+export HAPI_REQUIRE_GPU=1
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 OUT="${OUT:-$REPO/device-out}"
 mkdir -p "$OUT"
@@ -18,8 +20,8 @@ bash "$REPO/tools/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 
 echo "build ok"
 (cd "$B" && ctest --output-on-failure 2>&1) >"$OUT/ctest.log"
 tail -25 "$OUT/ctest.log"
-# The fault test's own output (the CUDA error text, skips).
-"$(find "$B" -name test_eskf_cuda_faults -type f | head -1)" 2>&1 | tee "$OUT/faults.log" | grep -E "CUDA error|OK|FAILED|SKIP|PASSED"
+# The fault test's own output (the CUDA error text; a missing device fails, HAPI_REQUIRE_GPU).
+"$(find "$B" -name test_eskf_cuda_faults -type f | head -1)" 2>&1 | tee "$OUT/faults.log" | grep -E "CUDA error|OK|FAILED|SKIP|PASSED|HAPI_REQUIRE_GPU"
 if [ -n "${1:-}" ]; then
   python3 "$REPO/test/reliability/replay_soak.py" --replay "$B/hapi_eskf/tools/eskf_replay" --stream="$1" \
     --out "$OUT/replay_soak" backend=cuda 2>&1 | tee "$OUT/replay_soak.log" | tail -20

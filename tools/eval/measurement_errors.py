@@ -9,7 +9,8 @@ camera's true pose and the surfaces are known:
 
 * depth error: each measured point is put into the world with the TRUE
   camera pose; along its viewing ray, the distance to where the ray meets the
-  true surface is the depth error e. Normalised by the stated depth sigma
+  true surface is the depth error e (a ray whose intersection does not
+  converge is counted in rays_not_converged, not scored). Normalised by the stated depth sigma
   (sqrt(d^T C_z d), d the ray direction), e_n should have mean 0 and
   variance 1.
 * persistence: measurements of one surface point in consecutive frames are
@@ -109,6 +110,9 @@ def analyse(frames, truth, surfaces, offset, link_m, link_bits):
         sigma = np.sqrt(np.einsum("ni,nij,nj->n", d_cam, cov, d_cam))
         per_frame.append((X, (rng - hit) / sigma, np.einsum("ij,njk,lk->nil", R, cov, R), desc, z, R, c))
     e_all = np.concatenate([f[1] for f in per_frame if f is not None])
+    # A ray whose surface intersection did not converge (depth_to_surface:
+    # NaN) has no depth error; it is counted, not silently dropped.
+    not_converged = int(np.count_nonzero(~np.isfinite(e_all)))
     e_all = e_all[np.isfinite(e_all)]
     # Links between consecutive frames: the nearest world point within link_m whose descriptor is within link_bits.
     links = []  # per frame k: {j in k+1: i in k}
@@ -171,6 +175,8 @@ def analyse(frames, truth, surfaces, offset, link_m, link_bits):
     resid, pred = np.array(resid), np.array(pred)
     return {
         "measurements": int(e_all.size),
+        "rays_not_converged": not_converged,
+        "rays_not_converged_fraction": not_converged / max(1, not_converged + int(e_all.size)),
         # Robust figures (gross outliers, wrong left-right matches, are the RANSAC's and the gate's job):
         # for N(0, 1), median 0, median |e| 0.674, fraction beyond 3: 0.0027.
         "depth_error_normalised": {"median": float(np.median(e_all)),

@@ -8,7 +8,7 @@ REPORT.yaml is what tools/eval/evaluate_run.py wrote (ATE after rigid
 alignment, map RMS to the true surfaces, rates, and the further metrics of
 tools/eval/run_analysis.py, printed when present). --map-error if-known: a
 recording without known geometry (a real data set) has no map error, which
-is then not counted as missing. DIAGNOSTICS.bag is /diagnostics
+is then not counted as missing; an empty map still is. DIAGNOSTICS.bag is /diagnostics
 recorded during the run: the nodelets publish per-window mean stage timings
 ("time <stage> [ms]"), so the per-stage timing of the whole run is the mean of
 the windows weighted by the frames each window processed (the last windows,
@@ -171,12 +171,12 @@ def main():
               f"(bound {a.max_map_rms * 1000:.0f} mm: {'PASS' if ok else 'FAIL'})")
         if not ok:
             failed.append("map error")
+    elif rep.get("map_points", 0) == 0:
+        missing.append("map error (no map received)")  # an empty map, known scene or not
     elif a.map_error == "if-known":
-        print(f"map error             : {rep.get('map_points', 0)} points, scene geometry unknown (not scored)")
-    elif rep.get("map_points", 0) > 0:
-        missing.append("map error (globe geometry unknown)")
+        print(f"map error             : {rep['map_points']} points, scene geometry unknown (not scored)")
     else:
-        missing.append("map error (no map received)")
+        missing.append("map error (globe geometry unknown)")
 
     lat = rep.get("latency", {})
     for key, label in (("image_to_landmarks_ms", "latency to landmarks "), ("image_to_odometry_ms", "latency to odometry  ")):

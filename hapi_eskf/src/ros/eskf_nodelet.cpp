@@ -362,6 +362,7 @@ bool EskfNodelet::process(Work& w) {
     applyImu(stamp);
   }
   const ros::WallTime t0 = ros::WallTime::now();
+  if (params_.test_frame_delay > 0.0) ros::WallDuration(params_.test_frame_delay).sleep();  // rostests only
   if (w.frame.measurements.empty()) {
     st = backend_->predictTo(stamp);  // nothing seen: keep the motion model running
     rep.t_total_ms = rep.t_predict_ms = (ros::WallTime::now() - t0).toSec() * 1e3;

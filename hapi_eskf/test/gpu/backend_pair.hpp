@@ -7,6 +7,7 @@
 #include "hapi_eskf/covariance/cuda_backend.hpp"
 #include "hapi_eskf/so3.hpp"
 #include "../test_random.hpp"
+#include "hapi_test/skip.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +23,7 @@ namespace gputest {
 #define HAPI_REQUIRE_CUDA_DEVICE()                                      \
   do {                                                                  \
     std::string why_;                                                   \
-    if (!cuda::deviceAvailable(0, &why_)) GTEST_SKIP() << why_;         \
+    if (!cuda::deviceAvailable(0, &why_)) HAPI_SKIP_WITHOUT_GPU(why_);   \
   } while (0)
 
 using testing_random::Rng;

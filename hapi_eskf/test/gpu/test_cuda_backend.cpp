@@ -22,6 +22,7 @@ TEST(CudaBackend, FactoryReportsDeviceOrReason) {
   std::string why;
   const bool ok = cuda::deviceAvailable(0, &why);
   EXPECT_FALSE(why.empty());
+  if (hapi_test::gpuRequired()) EXPECT_TRUE(ok) << "HAPI_REQUIRE_GPU=1: " << why;
   std::string err;
   auto b = cuda::makeCudaBackend(10, 32, kCameraMotionDim, cudaSettings(), &err);
   EXPECT_EQ(ok, b != nullptr) << err;

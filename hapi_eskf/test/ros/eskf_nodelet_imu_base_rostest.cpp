@@ -259,8 +259,9 @@ TEST(EskfNodeletImuBase, OdometryAndTfAtImuRate) {
 }
 
 // The IMU-rate outputs come from the IMU callback, not the worker: while a
-// frame is being processed they keep flowing. Checked when a frame takes long
-// enough (t_total_ms > 20) for the order of arrival to mean something.
+// frame is being processed they keep flowing. eskf_nodelet_imu_base.test
+// makes every frame update take >= 100 ms (~test_frame_delay), long enough
+// for the order of arrival to mean something on any machine.
 TEST(EskfNodeletImuBase, ImuOutputsDoNotWaitForTheFrameUpdate) {
   const double t_frame = 2.5 + 0.1 * 21;  // after the previous test's frames
   for (int k = 9; k >= 0; --k) {
@@ -285,7 +286,7 @@ TEST(EskfNodeletImuBase, ImuOutputsDoNotWaitForTheFrameUpdate) {
   const double t_total = diagValue("t_total_ms");
   std::printf("[eskf imu rostest] %d of 10 IMU outputs arrived before the frame update finished (frame %.1f ms)\n",
               before, t_total);
-  if (t_total > 20.0) EXPECT_GE(before, 5);
+  EXPECT_GE(before, 5);
 }
 
 // Bad IMU samples (NaN rate, a stamp not newer than the previous sample) are

@@ -8,6 +8,7 @@
 #include "hapi_frontend/stereo_match_core.hpp"
 
 #include "frames.hpp"
+#include "hapi_test/skip.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +23,7 @@ class StereoMatchCudaIdentity : public ::testing::Test {
  protected:
   void SetUp() override {
     std::string info;
-    if (!cudaDeviceAvailable(&info)) GTEST_SKIP() << "no CUDA device: " << info;
+    if (!cudaDeviceAvailable(&info)) HAPI_SKIP_WITHOUT_GPU("no CUDA device: " + info);
   }
 };
 

@@ -6,6 +6,7 @@
 #include "hapi_frontend/orb_core.hpp"
 
 #include "frames.hpp"
+#include "hapi_test/skip.hpp"
 #include "orb_compare.hpp"
 
 #include <gtest/gtest.h>
@@ -26,7 +27,7 @@ class OrbCudaIdentity : public ::testing::Test {
  protected:
   void SetUp() override {
     std::string info;
-    if (!cudaDeviceAvailable(&info)) GTEST_SKIP() << "no CUDA device: " << info;
+    if (!cudaDeviceAvailable(&info)) HAPI_SKIP_WITHOUT_GPU("no CUDA device: " + info);
     std::printf("[ device ] %s\n", info.c_str());
   }
 };

@@ -8,6 +8,7 @@
 
 #include "../../src/cuda/orb_kernels.cuh"
 #include "frames.hpp"
+#include "hapi_test/skip.hpp"
 
 #include <cuda_runtime.h>
 #include <gtest/gtest.h>
@@ -48,7 +49,7 @@ std::vector<uint8_t> referenceScores(const gpu_test::Frame& f, int t, int edge) 
 
 TEST(OrbCudaStages, FastScoreMapEqualsDefinition) {
   std::string info;
-  if (!cudaDeviceAvailable(&info)) GTEST_SKIP() << "no CUDA device: " << info;
+  if (!cudaDeviceAvailable(&info)) HAPI_SKIP_WITHOUT_GPU("no CUDA device: " + info);
   const int w = 640, h = 480, edge = 19;
   int total_diff = 0, total_nonzero = 0;
   for (int t : {7, 20}) {

@@ -5,10 +5,14 @@ frames, and counts each rejection reason in /diagnostics; also that the
 instance started with invalid parameters reports ERROR and publishes nothing.
 
 Valid frames are a synthetic rectified pair: a random blocky texture (many
-FAST corners) and the same texture shifted by a constant disparity.
+FAST corners) and the same texture shifted by a constant disparity. Each
+frame is sent once the previous one's outcome is seen (its landmarks, or its
+rejection counted in /diagnostics), not after a fixed sleep, so a slow machine
+cannot merge or drop frames.
 """
 import sys
 import threading
+import time
 import unittest
 
 import numpy as np
@@ -69,8 +73,8 @@ class BadInputTest(unittest.TestCase):
         self.approx_landmarks = []
         self.diag = {}
         rospy.Subscriber(rospy.get_param("~landmarks_topic"), StereoLandmarks, self.on_landmarks, queue_size=50)
-        rospy.Subscriber("/stereo_frontend_approx/landmarks", StereoLandmarks,
-                         lambda m: self.approx_landmarks.append(m), queue_size=50)
+        rospy.Subscriber("/stereo_frontend_approx/landmarks", StereoLandmarks, self.on_approx_landmarks,
+                         queue_size=50)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=50)
         tex = texture()
         self.left = tex[:, :W].copy()      # texture column X is at left x = X
@@ -95,6 +99,10 @@ class BadInputTest(unittest.TestCase):
         with self.lock:
             self.landmarks.append(m)
 
+    def on_approx_landmarks(self, m):
+        with self.lock:
+            self.approx_landmarks.append(m)
+
     def on_diag(self, a):
         with self.lock:
             for s in a.status:
@@ -103,11 +111,37 @@ class BadInputTest(unittest.TestCase):
     def send(self, limg, linfo, rimg, rinfo, pubs=None):
         for pub, m in zip(pubs or self.pubs, (limg, linfo, rimg, rinfo)):
             pub.publish(m)
-        rospy.sleep(0.4)
+
+    @staticmethod
+    def wait(predicate, timeout=10.0):
+        deadline = time.time() + timeout
+        while not predicate():
+            if time.time() > deadline or rospy.is_shutdown():
+                return False
+            rospy.sleep(0.02)
+        return True
+
+    def published(self, stamp, msgs):
+        with self.lock:
+            return any(m.header.stamp == stamp for m in msgs)
 
     def valid(self, t):
+        """A valid pair; returns once its landmarks arrived."""
         self.send(image(t, self.left), info(t), image(t, self.right, frame="bad_right_optical_frame"),
                   info(t, right=True))
+        self.assertTrue(self.wait(lambda: self.published(t, self.landmarks)),
+                        "no landmarks for the valid frame at %s" % t)
+
+    def counter(self, key, name="stereo_frontend: stereo front end"):
+        s = self.status(name)
+        v = self.value(s, key) if s is not None else None
+        return int(v) if v is not None else 0
+
+    def rejected(self, key, limg, linfo, rimg, rinfo):
+        """A bad pair; returns once /diagnostics counted it under key."""
+        before = self.counter(key)
+        self.send(limg, linfo, rimg, rinfo)
+        self.assertTrue(self.wait(lambda: self.counter(key) > before), "%s not counted" % key)
 
     def status(self, name):
         with self.lock:
@@ -138,22 +172,27 @@ class BadInputTest(unittest.TestCase):
         # 1. unsupported encoding (bgra8)
         t += step
         bgra = np.dstack([self.left] * 4)
-        self.send(image(t, bgra, "bgra8"), info(t), image(t, self.right, frame=r_frame), info(t, right=True))
+        self.rejected("rejected.unsupported_encoding", image(t, bgra, "bgra8"), info(t),
+                      image(t, self.right, frame=r_frame), info(t, right=True))
         # 2. left and right sizes differ
         t += step
         small = self.right[::2, ::2].copy()
-        self.send(image(t, self.left), info(t), image(t, small, frame=r_frame), info(t, W // 2, H // 2, right=True))
+        self.rejected("rejected.size_mismatch", image(t, self.left), info(t), image(t, small, frame=r_frame),
+                      info(t, W // 2, H // 2, right=True))
         # 3. zero K on the left camera
         t += step
-        self.send(image(t, self.left), info(t, zero_k=True), image(t, self.right, frame=r_frame),
-                  info(t, right=True))
+        self.rejected("rejected.invalid_calibration", image(t, self.left), info(t, zero_k=True),
+                      image(t, self.right, frame=r_frame), info(t, right=True))
         # 4. truncated image buffer
         t += step
         trunc = image(t, self.left)
         trunc.data = trunc.data[: len(trunc.data) // 2]
-        self.send(trunc, info(t), image(t, self.right, frame=r_frame), info(t, right=True))
+        self.rejected("rejected.malformed_image", trunc, info(t), image(t, self.right, frame=r_frame),
+                      info(t, right=True))
         # 5. stamp going back (by less than time_jump_reset: not a time reset)
-        self.valid(t - rospy.Duration(0.05))
+        back = t - rospy.Duration(0.05)
+        self.rejected("rejected.stamp_not_increasing", image(back, self.left), info(back),
+                      image(back, self.right, frame=r_frame), info(back, right=True))
         # 6. valid frames again: the nodelet must still be working
         for _ in range(3):
             t += step
@@ -193,11 +232,18 @@ class BadInputTest(unittest.TestCase):
         # Approximate sync: right stamps 2 ms late are paired and processed;
         # 50 ms late (> approx_slop 5 ms) is paired but rejected, and counted.
         r_frame = "bad_right_optical_frame"
+        # (The approximate policy may hold a pair until later messages arrive:
+        # each pair gets a short wait for its outcome, the counts are checked
+        # after the last one.)
+        approx = "stereo_frontend_approx: stereo front end"
         for k, offset in enumerate((0.002, 0.002, 0.05, 0.002, 0.002, 0.002)):
             ta = t + rospy.Duration(1.0 + 0.1 * k)
             tr = ta + rospy.Duration(offset)
+            before = self.counter("rejected.unsynchronised", approx)
             self.send(image(ta, self.left), info(ta), image(tr, self.right, frame=r_frame), info(tr, right=True),
                       pubs=self.approx_pubs)
+            self.wait(lambda: self.published(ta, self.approx_landmarks)
+                      or self.counter("rejected.unsynchronised", approx) > before, timeout=2.0)
         deadline = rospy.Time.now() + rospy.Duration(10)
         while True:
             a = self.status("stereo_frontend_approx: stereo front end")

@@ -8,6 +8,9 @@ within the depth range whose projection with the left camera_info of that
 stamp lies inside the image, symmetric positive-definite covariances,
 header.frame_id = the left optical frame, header.stamp equal to the stamp of
 a left image that was published.
+Over the run: a landmarks message for >= ~min_frame_fraction of the left
+images between the first and the last message (counted in frames, the bag's
+time, not in wall-clock Hz).
 """
 import math
 import sys
@@ -32,6 +35,7 @@ class LandmarksContentTest(unittest.TestCase):
         self.min_landmarks = rospy.get_param("~min_landmarks", 150)
         self.min_messages = rospy.get_param("~min_messages", 20)
         self.timeout = rospy.get_param("~timeout", 60.0)
+        self.min_frame_fraction = rospy.get_param("~min_frame_fraction", 0.5)
         rospy.Subscriber(rospy.get_param("~image_topic"), Image, self.on_image, queue_size=100)
         rospy.Subscriber(rospy.get_param("~info_topic"), CameraInfo, self.on_info, queue_size=100)
         rospy.Subscriber(rospy.get_param("~topic"), StereoLandmarks, self.on_landmarks, queue_size=100)
@@ -96,6 +100,11 @@ class LandmarksContentTest(unittest.TestCase):
                       len(msgs), min(counts), float(np.mean(counts)), max(counts))
         stamps = [m.header.stamp.to_nsec() for m in msgs]
         self.assertEqual(stamps, sorted(stamps), "stamps not increasing")
+        with self.lock:
+            images = sum(1 for t in self.image_stamps if stamps[0] <= t <= stamps[-1])
+        rospy.loginfo("%d landmark messages for %d left images in the same span", len(set(stamps)), images)
+        self.assertGreaterEqual(len(set(stamps)), self.min_frame_fraction * images,
+                                "frames without landmarks: %d messages for %d images" % (len(set(stamps)), images))
         for m in msgs:
             with self.subTest(stamp=str(m.header.stamp)):
                 self.check_message(m)
