@@ -23,6 +23,7 @@ void dgemm_(const char* ta, const char* tb, const int* m, const int* n, const in
 void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
             const double* alpha, const double* A, const int* lda, double* B, const int* ldb);
 void dpotrf_(const char* uplo, const int* n, double* A, const int* lda, int* info);
+void dpotri_(const char* uplo, const int* n, double* A, const int* lda, int* info);
 void openblas_set_num_threads(int num_threads);
 }
 bool blasCompiledIn() { return true; }
@@ -128,6 +129,26 @@ bool choleskyLower(CpuLinearAlgebra la, MatrixXd* S) {
   if (llt.info() != Eigen::Success) return false;
   *S = llt.matrixL();
   return true;
+}
+
+bool inverseSymmetric(CpuLinearAlgebra la, MatrixXd* S) {
+  const int n = static_cast<int>(S->rows());
+  if (n == 0) return true;
+#ifdef HAPI_ESKF_WITH_BLAS
+  if (useBlas(la)) {
+    int info = 0;
+    dpotrf_("L", &n, S->data(), &n, &info);
+    if (info != 0) return false;
+    dpotri_("L", &n, S->data(), &n, &info);
+    S->triangularView<Eigen::StrictlyUpper>() = S->transpose();
+    return info == 0 && S->allFinite();
+  }
+#endif
+  (void)la;
+  const Eigen::LLT<MatrixXd> llt(*S);
+  if (llt.info() != Eigen::Success) return false;
+  *S = llt.solve(MatrixXd::Identity(n, n));
+  return S->allFinite();
 }
 
 void solveRightLowerTransposed(CpuLinearAlgebra la, const MatrixXd& L, MatrixXd* X) {

@@ -5,6 +5,8 @@
 // the team's spinning threads cost more than the products).
 #include "hapi_eskf/graph/marginal_covariance.hpp"
 
+#include "../core/cpu_linear_algebra.hpp"
+
 #include <ceres/ceres.h>
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCore>
@@ -64,12 +66,11 @@ bool splitInformation(const SparseCols& H, int np, std::vector<PointInformation>
   return true;
 }
 
-// Inverse of a symmetric positive definite matrix; false when it is not.
-template <typename M>
-bool spdInverse(const M& H, M* inverse) {
-  const Eigen::LLT<M> llt(H);
+// Inverse of a symmetric positive definite 3x3 block; false when it is not.
+bool spdInverse(const Mat3& H, Mat3* inverse) {
+  const Eigen::LLT<Mat3> llt(H);
   if (llt.info() != Eigen::Success) return false;
-  *inverse = llt.solve(M::Identity(H.rows(), H.cols()));
+  *inverse = llt.solve(Mat3::Identity());
   return inverse->allFinite();
 }
 
@@ -100,8 +101,11 @@ bool marginalCovariances(ceres::Problem* problem, const std::vector<double*>& po
         S.block<6, 6>(6 * p.B[a].first, 6 * p.B[b].first).noalias() -= p.B[a].second * B[b].transpose();
     }
   }
-  Eigen::MatrixXd S_inv(nq, nq);
-  if (nq > 0 && !spdInverse(Eigen::MatrixXd(0.5 * (S + S.transpose())), &S_inv)) return false;
+  // S^-1 in OpenBLAS's LAPACK where built with it (DPOTRF + DPOTRI, n^3
+  // flops for the window's n = 6 x (free keyframes + priors), up to a few
+  // hundred), else Eigen.
+  Eigen::MatrixXd S_inv = 0.5 * (S + S.transpose());
+  if (!cpu_la::inverseSymmetric(CpuLinearAlgebra::kBlas, &S_inv)) return false;
 
   pose_cov_tangent->resize(poses.size());
   for (std::size_t k = 0; k < poses.size(); ++k) {
