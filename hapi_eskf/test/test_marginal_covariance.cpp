@@ -2,8 +2,11 @@
 // ceres::Covariance (sparse QR of the whole problem) on a small bundle with
 // a fixed gauge pose, free poses on the quaternion manifold, a pose prior and
 // a robust loss that has some residuals beyond its quadratic part: the same
-// blocks up to round-off.
+// blocks up to round-off. Also the dense inverse it uses
+// (cpu_la::inverseSymmetric), OpenBLAS's and Eigen's.
 #include "hapi_eskf/graph/marginal_covariance.hpp"
+
+#include "../src/core/cpu_linear_algebra.hpp"
 
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
@@ -89,12 +92,17 @@ void makeBundle(Bundle* b) {
                               b->poses[1].data());
 }
 
+// Every point and the free poses 1..4.
+void freeBlocks(Bundle* b, std::vector<double*>* points, std::vector<double*>* poses) {
+  for (Vec3& m : b->points) points->push_back(m.data());
+  for (std::size_t k = 1; k < b->poses.size(); ++k) poses->push_back(b->poses[k].data());
+}
+
 TEST(MarginalCovariance, EqualsCeresCovariance) {
   Bundle b;
   makeBundle(&b);
   std::vector<double*> points, poses;
-  for (Vec3& m : b.points) points.push_back(m.data());
-  for (std::size_t k = 1; k < b.poses.size(); ++k) poses.push_back(b.poses[k].data());
+  freeBlocks(&b, &points, &poses);
   std::vector<Mat3> point_cov;
   std::vector<Mat6> pose_cov;
   ASSERT_TRUE(graph::marginalCovariances(&b.problem, points, poses, &point_cov, &pose_cov));
@@ -126,8 +134,7 @@ TEST(MarginalCovariance, RefusesAResidualBetweenTwoPoints) {
   b.problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointToPoint, 3, 3, 3>(new PointToPoint), nullptr,
                              b.points[0].data(), b.points[1].data());
   std::vector<double*> points, poses;
-  for (Vec3& m : b.points) points.push_back(m.data());
-  for (std::size_t k = 1; k < b.poses.size(); ++k) poses.push_back(b.poses[k].data());
+  freeBlocks(&b, &points, &poses);
   std::vector<Mat3> point_cov;
   std::vector<Mat6> pose_cov;
   EXPECT_FALSE(graph::marginalCovariances(&b.problem, points, poses, &point_cov, &pose_cov));
@@ -142,12 +149,27 @@ TEST(MarginalCovariance, RefusesAnUndeterminedPose) {
                               new ceres::ProductManifold<ceres::EuclideanManifold<3>, ceres::EigenQuaternionManifold>(
                                   ceres::EuclideanManifold<3>(), ceres::EigenQuaternionManifold()));
   std::vector<double*> points, poses;
-  for (Vec3& m : b.points) points.push_back(m.data());
-  for (std::size_t k = 1; k < b.poses.size(); ++k) poses.push_back(b.poses[k].data());
+  freeBlocks(&b, &points, &poses);
   poses.push_back(unseen.data());
   std::vector<Mat3> point_cov;
   std::vector<Mat6> pose_cov;
   EXPECT_FALSE(graph::marginalCovariances(&b.problem, points, poses, &point_cov, &pose_cov));
+}
+
+TEST(MarginalCovariance, InverseSymmetricOnEitherPath) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::MatrixXd A(60, 60);
+  for (int i = 0; i < A.size(); ++i) A.data()[i] = g(rng);
+  const Eigen::MatrixXd S = A * A.transpose() + 0.1 * Eigen::MatrixXd::Identity(60, 60);
+  for (CpuLinearAlgebra la : {CpuLinearAlgebra::kBlas, CpuLinearAlgebra::kEigen}) {
+    Eigen::MatrixXd X = S;
+    ASSERT_TRUE(cpu_la::inverseSymmetric(la, &X));
+    EXPECT_LT((X * S - Eigen::MatrixXd::Identity(60, 60)).norm(), 1e-8);
+    EXPECT_EQ(X, X.transpose());
+    Eigen::MatrixXd N = -S;
+    EXPECT_FALSE(cpu_la::inverseSymmetric(la, &N));
+  }
 }
 
 }  // namespace

@@ -133,22 +133,24 @@ bool choleskyLower(CpuLinearAlgebra la, MatrixXd* S) {
 
 bool inverseSymmetric(CpuLinearAlgebra la, MatrixXd* S) {
   const int n = static_cast<int>(S->rows());
+  if (!choleskyLower(la, S)) return false;
   if (n == 0) return true;
+  bool ok = true;
 #ifdef HAPI_ESKF_WITH_BLAS
   if (useBlas(la)) {
     int info = 0;
-    dpotrf_("L", &n, S->data(), &n, &info);
-    if (info != 0) return false;
     dpotri_("L", &n, S->data(), &n, &info);
-    S->triangularView<Eigen::StrictlyUpper>() = S->transpose();
-    return info == 0 && S->allFinite();
-  }
+    ok = info == 0;
+  } else  // NOLINT(readability/braces): the Eigen path below
 #endif
-  (void)la;
-  const Eigen::LLT<MatrixXd> llt(*S);
-  if (llt.info() != Eigen::Success) return false;
-  *S = llt.solve(MatrixXd::Identity(n, n));
-  return S->allFinite();
+  {
+    MatrixXd L_inv = MatrixXd::Identity(n, n);  // S^-1 = L^-T L^-1, lower triangle
+    S->triangularView<Eigen::Lower>().solveInPlace(L_inv);
+    S->setZero();
+    S->selfadjointView<Eigen::Lower>().rankUpdate(L_inv.transpose());
+  }
+  S->triangularView<Eigen::StrictlyUpper>() = S->transpose();
+  return ok && S->allFinite();
 }
 
 void solveRightLowerTransposed(CpuLinearAlgebra la, const MatrixXd& L, MatrixXd* X) {
