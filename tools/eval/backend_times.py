@@ -47,6 +47,12 @@ def commit():
     return git("rev-parse", "--short", "HEAD") + ("-dirty" if git("status", "--porcelain", "-uno") else "")
 
 
+def verdict(over, frames):
+    if frames:
+        return "not compared (--frames)"
+    return "SLOWER: " + ", ".join(over) if over else "ok"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--margin", type=float, default=None,
@@ -81,7 +87,7 @@ def main():
             slower.append(v)
         print(f"| {v} | {float(m['ms_mean']):.1f} ({r['ms_mean'] if r else '-'}) | "
               f"{float(m['ms_p99']):.1f} ({r['ms_p99'] if r else '-'}) | {1e3 * float(m['mae_pos_m']):.2f} | "
-              f"{float(m['mean_nees_pos']):.2f} | {'SLOWER: ' + ', '.join(over) if over else 'ok'} |")
+              f"{float(m['mean_nees_pos']):.2f} | {verdict(over, a.frames)} |")
     if a.record:
         if a.frames:
             sys.exit("--record needs the full stream (no --frames)")
