@@ -71,10 +71,11 @@ def parse_variant(v):
 REFINABLE = ("eskf", "graph")  # the back ends with a graph to refine (compare_backends --refine)
 
 
-def run(stream, variant, settings, out, frames, offset=None, refine=False):
+def run(stream, variant, settings, out, frames, offset=None, refine=False, tool=None):
     label, algorithm, extra = parse_variant(variant)
     src = "--synthetic-orbit" if stream == "synthetic-orbit" else stream
-    cmd = [tool_path(), src, "--algorithm", algorithm, "--label", stream_name(stream) + "__" + label, "--out", out,
+    cmd = [tool or tool_path(), src, "--algorithm", algorithm, "--label", stream_name(stream) + "__" + label,
+           "--out", out,
            "--truth-offset", repr(truth_offset(stream, offset))] + (["--frames", str(frames)] if frames else []) + \
         (["--refine"] if refine and algorithm in REFINABLE else []) + list(settings) + extra
     print("$ " + " ".join(cmd), flush=True)

@@ -23,6 +23,7 @@ void dgemm_(const char* ta, const char* tb, const int* m, const int* n, const in
 void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
             const double* alpha, const double* A, const int* lda, double* B, const int* ldb);
 void dpotrf_(const char* uplo, const int* n, double* A, const int* lda, int* info);
+void dpotri_(const char* uplo, const int* n, double* A, const int* lda, int* info);
 void openblas_set_num_threads(int num_threads);
 }
 bool blasCompiledIn() { return true; }
@@ -128,6 +129,28 @@ bool choleskyLower(CpuLinearAlgebra la, MatrixXd* S) {
   if (llt.info() != Eigen::Success) return false;
   *S = llt.matrixL();
   return true;
+}
+
+bool inverseSymmetric(CpuLinearAlgebra la, MatrixXd* S) {
+  const int n = static_cast<int>(S->rows());
+  if (!choleskyLower(la, S)) return false;
+  if (n == 0) return true;
+  bool ok = true;
+#ifdef HAPI_ESKF_WITH_BLAS
+  if (useBlas(la)) {
+    int info = 0;
+    dpotri_("L", &n, S->data(), &n, &info);
+    ok = info == 0;
+  } else  // NOLINT(readability/braces): the Eigen path below
+#endif
+  {
+    MatrixXd L_inv = MatrixXd::Identity(n, n);  // S^-1 = L^-T L^-1, lower triangle
+    S->triangularView<Eigen::Lower>().solveInPlace(L_inv);
+    S->setZero();
+    S->selfadjointView<Eigen::Lower>().rankUpdate(L_inv.transpose());
+  }
+  S->triangularView<Eigen::StrictlyUpper>() = S->transpose();
+  return ok && S->allFinite();
 }
 
 void solveRightLowerTransposed(CpuLinearAlgebra la, const MatrixXd& L, MatrixXd* X) {

@@ -38,6 +38,10 @@ void gemm(CpuLinearAlgebra la, bool trans_a, bool trans_b, double alpha, const M
 // Lower Cholesky factor of the symmetric S in place (the upper triangle is
 // zeroed); false when S is not positive definite (a non-positive pivot).
 bool choleskyLower(CpuLinearAlgebra la, MatrixXd* S);
+// S <- S^-1 for a symmetric positive definite S (its lower triangle read;
+// the whole inverse written): DPOTRF + DPOTRI (n^3 flops) or Eigen's LLT and
+// a solve of the identity. False when S is not positive definite.
+bool inverseSymmetric(CpuLinearAlgebra la, MatrixXd* S);
 // X <- X L^-T (triangular solve from the right, L lower, X m x k).
 void solveRightLowerTransposed(CpuLinearAlgebra la, const MatrixXd& L, MatrixXd* X);
 // X <- L^-1 X (triangular solve from the left, L lower).

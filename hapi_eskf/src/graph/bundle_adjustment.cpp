@@ -5,6 +5,8 @@
 // (R = R_hat Exp(dtheta)) as dtheta = R^T d (docs/DESIGN.md "Graph SLAM").
 #include "hapi_eskf/graph/bundle_adjustment.hpp"
 
+#include "hapi_eskf/graph/marginal_covariance.hpp"
+
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
 #include <Eigen/Cholesky>
@@ -160,39 +162,41 @@ Status adjustBundle(const GraphSettings& settings, const BundleOptions& options,
     int n_priors = 0;
     for (std::size_t k = 0; k < poses.size(); ++k)
       n_priors += used[k] && constant[k] && hasCovariance(map->keyframes[k].covariance);
+    std::vector<double*> point_blocks, pose_blocks;
+    std::vector<int> pose_index;  // keyframe of each pose block
     for (std::size_t k = 0; k < poses.size(); ++k) {
-      const Mat6& C = map->keyframes[k].covariance;
-      if (!used[k] || !constant[k] || !hasCovariance(C)) continue;
-      const Mat6 J = localToGlobal(map->keyframes[k].q);
-      const Mat6 G = static_cast<double>(n_priors) * J * C * J.transpose();
-      if (G.llt().info() != Eigen::Success) continue;
-      problem.SetParameterBlockVariable(poses[k].data());
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7>(
-                                   new PosePriorResidual(map->keyframes[k].p, map->keyframes[k].q, 0.5 * (G + G.transpose()))),
-                               nullptr, poses[k].data());
-    }
-    ceres::Covariance::Options copt;
-    copt.num_threads = 1;
-    copt.algorithm_type = ceres::SPARSE_QR;
-    ceres::Covariance covariance(copt);
-    std::vector<std::pair<const double*, const double*>> blocks;
-    for (const auto& kv : points) blocks.emplace_back(kv.second.data(), kv.second.data());
-    for (std::size_t k = 0; k < poses.size(); ++k)
-      if (used[k] && !constant[k]) blocks.emplace_back(poses[k].data(), poses[k].data());
-    if (covariance.Compute(blocks, &problem)) {
-      rep.covariance_ok = true;
-      for (const auto& kv : points) {
-        Eigen::Matrix<double, 3, 3, Eigen::RowMajor> C;
-        covariance.GetCovarianceBlock(kv.second.data(), kv.second.data(), C.data());
-        point_cov[kv.first] = 0.5 * (C + C.transpose());
+      if (!used[k]) continue;
+      if (constant[k]) {
+        const Mat6& C = map->keyframes[k].covariance;
+        if (!hasCovariance(C)) continue;
+        const Mat6 J = localToGlobal(map->keyframes[k].q);
+        const Mat6 G = static_cast<double>(n_priors) * J * C * J.transpose();
+        if (G.llt().info() != Eigen::Success) continue;
+        problem.SetParameterBlockVariable(poses[k].data());
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PosePriorResidual, 6, 7>(new PosePriorResidual(
+                                     map->keyframes[k].p, map->keyframes[k].q, 0.5 * (G + G.transpose()))),
+                                 nullptr, poses[k].data());
       }
-      for (std::size_t k = 0; k < poses.size(); ++k) {
-        if (!used[k] || constant[k]) continue;
-        Eigen::Matrix<double, 6, 6, Eigen::RowMajor> G;
-        covariance.GetCovarianceBlockInTangentSpace(poses[k].data(), poses[k].data(), G.data());
+      pose_blocks.push_back(poses[k].data());
+      pose_index.push_back(static_cast<int>(k));
+    }
+    std::vector<uint64_t> point_ids;
+    for (auto& kv : points) {
+      point_ids.push_back(kv.first);
+      point_blocks.push_back(kv.second.data());
+    }
+    std::vector<Mat3> point_blocks_cov;
+    std::vector<Mat6> pose_blocks_cov;
+    if (marginalCovariances(&problem, point_blocks, pose_blocks, &point_blocks_cov, &pose_blocks_cov)) {
+      rep.covariance_ok = true;
+      for (std::size_t i = 0; i < point_ids.size(); ++i) point_cov[point_ids[i]] = point_blocks_cov[i];
+      for (std::size_t b = 0; b < pose_blocks.size(); ++b) {
+        const int k = pose_index[b];
+        if (constant[k]) continue;
+        // Tangent [dp, d global] -> [dp world, dtheta local].
         const Mat6 Jt = localToGlobal(Eigen::Quaterniond(poses[k].tail<4>().data())).transpose();
-        const Mat6 C = Jt * G * Jt.transpose();
-        keyframe_cov[static_cast<int>(k)] = 0.5 * (C + C.transpose());
+        const Mat6 C = Jt * pose_blocks_cov[b] * Jt.transpose();
+        keyframe_cov[k] = 0.5 * (C + C.transpose());
       }
       if (newest_free >= 0) rep.newest_pose_covariance = keyframe_cov.at(newest_free);
     }

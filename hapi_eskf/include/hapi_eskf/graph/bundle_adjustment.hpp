@@ -19,7 +19,7 @@ namespace graph {
 struct BundleOptions {
   int max_iterations = 10;
   bool sparse = false;          // sparse Schur (large batch) instead of dense Schur (window)
-  // Landmark and free keyframe covariances from ceres::Covariance, with every
+  // Landmark and free keyframe marginal covariances (marginal_covariance.hpp), with every
   // constant keyframe that has a covariance acting as a prior of it (not as
   // an exact pose): the window's marginals then carry the older map's
   // uncertainty (docs/DESIGN.md "Graph SLAM", covariances).
