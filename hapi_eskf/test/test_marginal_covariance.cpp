@@ -6,7 +6,7 @@
 // (cpu_la::inverseSymmetric), OpenBLAS's and Eigen's.
 #include "hapi_eskf/graph/marginal_covariance.hpp"
 
-#include "../src/core/cpu_linear_algebra.hpp"
+#include "../src/covariance/cpu_linear_algebra.hpp"
 
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>

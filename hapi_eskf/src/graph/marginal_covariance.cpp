@@ -5,7 +5,7 @@
 // the team's spinning threads cost more than the products).
 #include "hapi_eskf/graph/marginal_covariance.hpp"
 
-#include "../core/cpu_linear_algebra.hpp"
+#include "../covariance/cpu_linear_algebra.hpp"
 
 #include <ceres/ceres.h>
 #include <Eigen/Cholesky>
