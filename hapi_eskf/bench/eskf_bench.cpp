@@ -26,7 +26,7 @@
 // the time between frames and is only seen in a frame's time when it is not
 // done by the next frame's start.
 // The --precision and --cuda-* flags set the EskfSettings fields of the same
-// names (eskf_settings.def) for the CUDA backend (device 0, where the
+// names (settings.hpp) for the CUDA backend (device 0, where the
 // ceilings are measured). Builds and runs without a GPU (CPU rows only).
 #include "cpu_ceilings.hpp"
 #include "device_ceilings.hpp"

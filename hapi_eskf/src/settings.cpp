@@ -1,5 +1,6 @@
 // Checks and text forms of EskfSettings, all driven by the field table
-// (eskf_settings.def): the only hand-written rules are those between fields.
+// (the parts' .def lists): the only hand-written rules are those between
+// fields (PoolSettings::crossFieldError).
 #include "hapi_eskf/settings.hpp"
 
 #include <type_traits>
@@ -12,12 +13,7 @@ std::string EskfSettings::validate() const {
     if (err.empty()) err = rangeError(f, v);
   });
   if (!err.empty()) return err;
-  // Ranges that depend on another field.
-  if (max_new_landmarks > max_landmarks)
-    return "max_new_landmarks must be in [0, max_landmarks], got " + std::to_string(max_new_landmarks);
-  if (bootstrap_landmarks > max_landmarks)
-    return "bootstrap_landmarks must be in [0, max_landmarks], got " + std::to_string(bootstrap_landmarks);
-  return "";
+  return crossFieldError();
 }
 
 std::string setFieldFromText(EskfSettings* s, const std::string& name, const std::string& value) {
@@ -31,10 +27,5 @@ std::string setFieldFromText(EskfSettings* s, const std::string& name, const std
 }
 
 const char* toString(BackendAlgorithm a) { return enumToString(a); }
-const char* toString(BackendKind b) { return enumToString(b); }
-const char* toString(Precision p) { return enumToString(p); }
-const char* toString(MotionModelKind m) { return enumToString(m); }
-bool parseBackendKind(const std::string& s, BackendKind* out) { return enumFromString(s, out); }
-bool parsePrecision(const std::string& s, Precision* out) { return enumFromString(s, out); }
 
 }  // namespace hapi_eskf

@@ -1,5 +1,5 @@
 // Settings of the basic filter iteration that the unit tests pin down: the
-// defaults (eskf_settings.def, the tuned values of config/eskf.yaml) with the
+// defaults (settings.hpp, the tuned values of config/eskf.yaml) with the
 // tuned extras switched off, i.e. no RANSAC before gating, no bootstrap batch,
 // no relocalisation after a gap, C_z as the front end gives it and no
 // frame-shared vision error (the pose block is the motion model's). A test's

@@ -22,7 +22,7 @@ EskfSettings settingsFor(BackendAlgorithm a) {
   s.backend_algorithm = a;
   s.max_landmarks = 300;
   s.measurement_angular_sigma = 0.0;  // the simulation has no re-detection noise
-  s.fastslam_num_particles = 30;
+  s.fastslam.num_particles = 30;
   return s;
 }
 

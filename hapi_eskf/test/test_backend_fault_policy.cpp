@@ -1,7 +1,7 @@
 // BackendFaultPolicy: restarts for transient faults, then the CPU backend
 // (allow_cpu_fallback) or a stop; a creation failure gives up at once; a good
 // frame ends the run of faults; the CPU backend itself never "falls back".
-#include "hapi_eskf/backend/backend_fault_policy.hpp"
+#include "hapi_eskf/covariance/backend_fault_policy.hpp"
 
 #include <gtest/gtest.h>
 

@@ -131,7 +131,7 @@ TEST(FrameErrorBlock, UpdateEqualsTheJointUpdateWithTheSharedNoise) {
 
 TEST(FrameErrorBlock, DisabledIsTheModelBlockAsIs) {
   const EskfSettings s = testing_settings::basicFilter();
-  ASSERT_FALSE(s.frameErrorModelled());
+  ASSERT_FALSE(frameErrorModelled(s));
   FrameErrorBlock fe(kInertialDim, s);
   EXPECT_EQ(fe.filterDim(), kInertialDim);
   const PoseMat F = PoseMat::Constant(kInertialDim, kInertialDim, 0.5);
@@ -146,19 +146,19 @@ TEST(FrameErrorBlock, DisabledIsTheModelBlockAsIs) {
 TEST(FrameErrorBlock, ShippedForTheImuModelsOfTheEskf) {
   EskfSettings s;  // as shipped
   s.motion_model = MotionModelKind::kInertial;
-  EXPECT_TRUE(s.frameErrorModelled());
+  EXPECT_TRUE(frameErrorModelled(s));
   EXPECT_EQ(filterPoseDim(s), kInertialDim + kFrameErrorDim);
   s.motion_model = MotionModelKind::kGyro;
-  EXPECT_TRUE(s.frameErrorModelled());
+  EXPECT_TRUE(frameErrorModelled(s));
   // The constant-velocity model absorbs the shared errors as motion.
   s.motion_model = MotionModelKind::kConstantVelocity;
-  EXPECT_FALSE(s.frameErrorModelled());
+  EXPECT_FALSE(frameErrorModelled(s));
   EXPECT_EQ(filterPoseDim(s), kCameraMotionDim);
   // The SEIF's information-form motion update inverts the transition; the
   // frame error's two transitions are singular.
   s.motion_model = MotionModelKind::kInertial;
   s.backend_algorithm = BackendAlgorithm::kSeif;
-  EXPECT_FALSE(s.frameErrorModelled());
+  EXPECT_FALSE(frameErrorModelled(s));
   EXPECT_EQ(filterPoseDim(s), kInertialDim);
 }
 

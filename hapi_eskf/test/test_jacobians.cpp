@@ -5,6 +5,7 @@
 #include "hapi_eskf/backend/measurement_model.hpp"
 #include "hapi_eskf/backend/pose_kinematics.hpp"
 #include "hapi_eskf/random_draw.hpp"
+#include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/so3.hpp"
 
 #include <gtest/gtest.h>

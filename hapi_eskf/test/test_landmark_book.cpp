@@ -2,6 +2,7 @@
 // recently seen first, and with full_pool_keep_observations the often
 // observed landmarks last, whatever their age.
 #include "hapi_eskf/backend/landmark_book.hpp"
+#include "hapi_eskf/settings.hpp"
 
 #include <gtest/gtest.h>
 

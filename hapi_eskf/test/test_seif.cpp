@@ -113,7 +113,7 @@ TEST(Seif, WithoutSparsificationEqualsTheEskf) {
   s.backend_algorithm = BackendAlgorithm::kEskf;
   auto ekf = make(s);
   s.backend_algorithm = BackendAlgorithm::kSeif;
-  s.seif_max_active_landmarks = 0;  // no sparsification
+  s.seif.max_active_landmarks = 0;  // no sparsification
   auto seif = make(s);
   ASSERT_TRUE(ekf && seif);
   EXPECT_STREQ(seif->name(), "seif");
@@ -190,8 +190,8 @@ struct Accuracy {
 // frame, the bound and PSD covariances.
 Accuracy runSeif(const Stream& st, EskfSettings s, int max_active) {
   s.backend_algorithm = BackendAlgorithm::kSeif;
-  s.seif_max_active_landmarks = max_active;
-  s.seif_recovery_landmarks = 20;
+  s.seif.max_active_landmarks = max_active;
+  s.seif.recovery_landmarks = 20;
   std::string err;
   auto storage = seif::makeSeifStorage(s, 32, &err);
   EXPECT_TRUE(storage) << err;
@@ -246,7 +246,7 @@ TEST(Seif, BadInputLeavesTheStateUnchanged) {
   EskfSettings s = streamSettings();
   const Stream st = makeStream(12, s, 3);
   s.backend_algorithm = BackendAlgorithm::kSeif;
-  s.seif_max_active_landmarks = 25;
+  s.seif.max_active_landmarks = 25;
   auto f = make(s);
   ASSERT_TRUE(f);
   ASSERT_EQ(f->reset(start(st), 0.0), Status::kOk);

@@ -1,4 +1,4 @@
-// The settings table (eskf_settings.def, field_table.hpp): defaults valid,
+// The settings table (settings.hpp, field_table.hpp): defaults valid,
 // ranges enforced at their ends, every field settable from its text form,
 // enum names round-trip. config/eskf.yaml against the table:
 // test/ros/params_rostest.cpp.

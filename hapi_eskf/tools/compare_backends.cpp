@@ -237,7 +237,7 @@ int main(int argc, char** argv) {
   // --refine: the ES-EKF's run is recorded as a graph; Graph SLAM has its own.
   Eskf* const eskf = refine ? graph::recordableEskf(backend.get(), s.backend_algorithm) : nullptr;
   std::unique_ptr<graph::EskfRecorder> recorder;
-  if (eskf) recorder = std::make_unique<graph::EskfRecorder>(s.graph_keyframe_min_observations);
+  if (eskf) recorder = std::make_unique<graph::EskfRecorder>(s.graph.keyframe_min_observations);
   const graph::GraphSlam* graph_slam = refine ? graph::graphSlamOf(backend.get()) : nullptr;
   if (refine && !eskf && !graph_slam) {
     std::cerr << "--refine: only eskf and graph have a graph to refine\n";

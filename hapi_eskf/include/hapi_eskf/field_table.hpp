@@ -1,6 +1,6 @@
 // Declarative settings tables. Every setting is declared ONCE, as one line
 //   HAPI_FIELD(type, name, default, range, unit, doc)
-// of a .def list (eskf_settings.def; ros/nodelet_params.def for the nodelet's
+// of a .def list (the settings parts' .def lists, settings.hpp; ros/nodelet_params.def for the nodelet's
 // own parameters). The struct members with their defaults and forEachField()
 // are generated from that list, and everything that needs the names, defaults
 // or ranges loops over it: validate(), the ROS parameter reader, the tools'
@@ -157,6 +157,22 @@ std::string describeField(const FieldInfo& f, const T& default_value) {
   }
   if (*f.unit) d += std::string(", ") + f.unit;
   return d + "): " + f.doc;
+}
+
+// Declares forEachField(s, visit) for the settings struct T: visit(FieldInfo,
+// field) for every field of its table in order, the field `const F&` or `F&`
+// as s is const or not. Each table's header follows it with the body that
+// includes its .def list.
+#define HAPI_SETTINGS_VISITOR(T)                                                                    \
+  template <typename Settings, typename Visitor,                                                    \
+            std::enable_if_t<std::is_same<std::remove_const_t<Settings>, T>::value, int> = 0> \
+  void forEachField(Settings& s, Visitor&& visit)
+
+// `s` seen as its part (a base) Part, const as `s` is: for a composed
+// settings struct's forEachField over its parts.
+template <typename Part, typename S>
+std::conditional_t<std::is_const<S>::value, const Part, Part>& asPart(S& s) {
+  return s;
 }
 
 }  // namespace hapi_eskf

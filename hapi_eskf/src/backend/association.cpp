@@ -162,7 +162,7 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
 }
 
 Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& camera_jacobian,
-                 const std::vector<Vec3>& positions, const AssociationSource& source, const EskfSettings& settings,
+                 const std::vector<Vec3>& positions, const AssociationSource& source, const AssociationSettings& settings,
                  Association* out) {
   const int n = static_cast<int>(frame.measurements.size());
   const int K = source.numLandmarks();

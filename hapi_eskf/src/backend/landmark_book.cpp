@@ -28,7 +28,7 @@ std::vector<int> LandmarkBook::byResponse(const StereoFrame& frame) {
 }
 
 std::vector<int> LandmarkBook::chooseUpdates(const Association& assoc, const std::vector<int>& by_response,
-                                             const EskfSettings& settings) {
+                                             const PoolSettings& settings) {
   std::vector<int> used;
   for (int i : by_response)
     if (assoc.slot[i] >= 0 && static_cast<int>(used.size()) < settings.max_update_landmarks) used.push_back(i);
@@ -36,7 +36,7 @@ std::vector<int> LandmarkBook::chooseUpdates(const Association& assoc, const std
 }
 
 std::vector<int> LandmarkBook::chooseAdditions(const Association& assoc, const std::vector<int>& by_response,
-                                               const EskfSettings& settings) const {
+                                               const PoolSettings& settings) const {
   const int max_add =
       size() == 0 && settings.bootstrap_landmarks > 0 ? settings.bootstrap_landmarks : settings.max_new_landmarks;
   std::vector<int> add;
@@ -46,7 +46,7 @@ std::vector<int> LandmarkBook::chooseAdditions(const Association& assoc, const s
 }
 
 std::vector<int> LandmarkBook::chooseRemovals(int n_additions, const std::vector<char>& protected_slot,
-                                              const EskfSettings& settings) const {
+                                              const PoolSettings& settings) const {
   const int K = size();
   const int free_slots = settings.max_landmarks - K;
   if (n_additions <= free_slots) return {};
@@ -71,7 +71,7 @@ std::vector<int> LandmarkBook::chooseRemovals(int n_additions, const std::vector
   return evict;
 }
 
-int LandmarkBook::additionsThatFit(int n_additions, const EskfSettings& settings) const {
+int LandmarkBook::additionsThatFit(int n_additions, const PoolSettings& settings) const {
   return std::min(n_additions, settings.max_landmarks - size());
 }
 

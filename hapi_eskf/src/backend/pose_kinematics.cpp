@@ -19,7 +19,7 @@ double dampingFactor(double per_second, double dt) { return std::pow(per_second,
 
 }  // namespace
 
-PoseState predictPose(const PoseState& x, double dt, const EskfSettings& s) {
+PoseState predictPose(const PoseState& x, double dt, const MotionSettings& s) {
   PoseState y;
   const Mat3 R = x.q.toRotationMatrix();
   y.p = x.p + R * x.v * dt;
@@ -34,7 +34,7 @@ PoseState predictPose(const PoseState& x, double dt, const EskfSettings& s) {
 //          ~ Exp(Exp(w^dt)^T dth) Exp(J_r(w^dt) dw dt)
 //   => dth' = Exp(w^dt)^T dth + J_r(w^ dt) dt dw
 // dv' = Gamma^dt dv, dw' = Lambda^dt dw.
-Mat12 predictJacobian(const PoseState& x, double dt, const EskfSettings& s) {
+Mat12 predictJacobian(const PoseState& x, double dt, const MotionSettings& s) {
   const Mat3 R = x.q.toRotationMatrix();
   const Vec3 phi = x.w * dt;
   Mat12 F = Mat12::Identity();
@@ -50,7 +50,7 @@ Mat12 predictJacobian(const PoseState& x, double dt, const EskfSettings& s) {
 // Random walks: v and w receive white acceleration noise of density sigma,
 // i.e. variance sigma^2 dt per step. Its effect on p and theta enters through
 // F at the following steps (first order in dt).
-void gyroStep(const PoseState& x, const Vec3& gyro_camera, double sigma_gyro, double dt, const EskfSettings& s,
+void gyroStep(const PoseState& x, const Vec3& gyro_camera, double sigma_gyro, double dt, const MotionSettings& s,
               PoseState* next, Mat12* F, Mat12* Q) {
   PoseState xg = x;
   xg.w = gyro_camera;
@@ -77,7 +77,7 @@ Mat6 poseRandomWalkNoise(double dt, double sigma_acceleration, double sigma_angu
   return Q;
 }
 
-Mat12 processNoise(double dt, const EskfSettings& s) {
+Mat12 processNoise(double dt, const MotionSettings& s) {
   Mat12 Q = Mat12::Zero();
   Q.block<3, 3>(kIdxV, kIdxV).diagonal().setConstant(s.sigma_acceleration * s.sigma_acceleration * dt);
   Q.block<3, 3>(kIdxW, kIdxW).diagonal().setConstant(s.sigma_angular_acceleration * s.sigma_angular_acceleration *

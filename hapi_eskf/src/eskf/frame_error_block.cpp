@@ -5,20 +5,18 @@
 
 namespace hapi_eskf {
 
-int filterPoseDim(const EskfSettings& s) {
-  const int model_dim = poseDim(s.motion_model);
-  return s.frameErrorModelled() ? model_dim + kFrameErrorDim : model_dim;
+bool frameErrorModelled(const EskfSettings& s) {
+  return s.backend_algorithm != BackendAlgorithm::kSeif && s.motion_model != MotionModelKind::kConstantVelocity &&
+         s.anyFrameError();
 }
 
-Mat6 frameErrorCameraCovariance(const EskfSettings& s) {
-  const double st = s.frame_translation_sigma, sr = s.frame_rotation_sigma, sz = s.frame_optical_axis_sigma;
-  Mat6 C = Mat6::Zero();
-  C.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sz * sz;
-  return C;
+int filterPoseDim(const EskfSettings& s) {
+  const int model_dim = poseDim(s.motion_model);
+  return frameErrorModelled(s) ? model_dim + kFrameErrorDim : model_dim;
 }
 
 FrameErrorBlock::FrameErrorBlock(int model_dim, const EskfSettings& s)
-    : model_dim_(model_dim), enabled_(s.frameErrorModelled()), sigma_camera_(frameErrorCameraCovariance(s)) {}
+    : model_dim_(model_dim), enabled_(frameErrorModelled(s)), sigma_camera_(s.frameErrorCameraCovariance()) {}
 
 PoseMat FrameErrorBlock::embed(const PoseMat& M, double spare_diagonal) const {
   if (!enabled_) return M;

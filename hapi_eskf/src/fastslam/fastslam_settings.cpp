@@ -1,6 +1,7 @@
 // Checks and text forms of FastSlamSettings, driven by fastslam_settings.def.
 #include "hapi_eskf/fastslam/fastslam_settings.hpp"
 
+#include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/settings_table.hpp"
 
 namespace hapi_eskf {
@@ -20,9 +21,7 @@ std::string setFieldFromText(FastSlamSettings* s, const std::string& name, const
 
 FastSlamSettings fastSlamSettings(const EskfSettings& s) {
   FastSlamSettings f;
-#define HAPI_FASTSLAM_FIELD(type, name, default_value, range, unit, doc) f.name = s.fastslam_##name;
-#include "hapi_eskf/fastslam/fastslam_settings.def"
-#undef HAPI_FASTSLAM_FIELD
+  static_cast<FastSlamTable&>(f) = s.fastslam;
   f.sigma_acceleration = s.sigma_acceleration;
   f.sigma_angular_acceleration = s.sigma_angular_acceleration;
   return f;

@@ -1,6 +1,7 @@
 // Checks and text forms of GraphSettings, driven by graph_settings.def.
 #include "hapi_eskf/graph/graph_settings.hpp"
 
+#include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/settings_table.hpp"
 
 namespace hapi_eskf {
@@ -22,12 +23,10 @@ std::string setFieldFromText(GraphSettings* s, const std::string& name, const st
 
 GraphSettings graphSettings(const EskfSettings& s) {
   GraphSettings g;
-#define HAPI_GRAPH_FIELD(type, name, default_value, range, unit, doc) g.name = s.graph_##name;
-#include "hapi_eskf/graph/graph_settings.def"
-#undef HAPI_GRAPH_FIELD
+  static_cast<GraphTable&>(g) = s.graph;
   g.sigma_acceleration = s.sigma_acceleration;
   g.sigma_angular_acceleration = s.sigma_angular_acceleration;
-  g.frame_error_covariance = frameErrorCameraCovariance(s);
+  g.frame_error_covariance = s.frameErrorCameraCovariance();
   return g;
 }
 

@@ -25,7 +25,7 @@ void GraphRefiner::attach(SlamBackend* backend) {
   graph_ = nullptr;
 #ifdef HAPI_ESKF_WITH_GRAPH
   eskf_ = graph::recordableEskf(backend, params_.filter.backend_algorithm);
-  if (eskf_) recorder_ = std::make_unique<graph::EskfRecorder>(params_.filter.graph_keyframe_min_observations);
+  if (eskf_) recorder_ = std::make_unique<graph::EskfRecorder>(params_.filter.graph.keyframe_min_observations);
   graph_ = graph::graphSlamOf(backend);
 #else
   (void)backend;
@@ -45,7 +45,7 @@ Status GraphRefiner::processFrame(SlamBackend& backend, const StereoFrame& frame
 void GraphRefiner::clear() {
 #ifdef HAPI_ESKF_WITH_GRAPH
   std::lock_guard<std::mutex> lk(mu_);
-  if (recorder_) recorder_ = std::make_unique<graph::EskfRecorder>(params_.filter.graph_keyframe_min_observations);
+  if (recorder_) recorder_ = std::make_unique<graph::EskfRecorder>(params_.filter.graph.keyframe_min_observations);
 #endif
 }
 

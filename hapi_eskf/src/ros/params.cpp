@@ -1,5 +1,5 @@
 // Reading and validation of the nodelet's ~ parameters: one loop over the
-// settings tables (eskf_settings.def, nodelet_params.def) through a
+// settings tables (settings.hpp, nodelet_params.def) through a
 // hapi_nodelet_kit::ParamReader, so every table field is a parameter with the
 // table's name and default, its type is checked by the reader, and a name
 // under ~ that nothing asked the reader for is reported as unknown.

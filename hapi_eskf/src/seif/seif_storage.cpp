@@ -179,8 +179,8 @@ MatrixXd SeifStorage::denseCovariance() const {
 // when L is everything).
 Status SeifStorage::doUpdate(const std::vector<MeasurementBlock>& blocks, VectorXd* dx, double* nis) {
   const int P = poseDim(), K = numLandmarks();
-  const bool exact = settings_.seif_exact_recovery_period > 0 &&
-                     (updates_ + 1) % settings_.seif_exact_recovery_period == 0;
+  const bool exact = settings_.seif.exact_recovery_period > 0 &&
+                     (updates_ + 1) % settings_.seif.exact_recovery_period == 0;
   std::vector<int> L;
   std::vector<char> in_L(K, 0);
   std::vector<int> row(K, -1);
@@ -252,7 +252,7 @@ Status SeifStorage::doUpdate(const std::vector<MeasurementBlock>& blocks, Vector
 void SeifStorage::recoverPassive(const std::vector<char>& solved, VectorXd* dx) {
   const int K = numLandmarks(), P = poseDim();
   int done = 0;
-  for (int step = 0; step < K && done < settings_.seif_recovery_landmarks; ++step) {
+  for (int step = 0; step < K && done < settings_.seif.recovery_landmarks; ++step) {
     const int k = cursor_;
     cursor_ = (cursor_ + 1) % K;
     if (solved[k] || omega_.isActive(k)) continue;
@@ -271,7 +271,7 @@ void SeifStorage::recoverPassive(const std::vector<char>& solved, VectorXd* dx) 
 // bound (least recently linked), m+ = the others; removes the pose-m0 links;
 // xi is kept (the error mean is ~0 right after the recovery).
 void SeifStorage::sparsify() {
-  const int bound = settings_.seif_max_active_landmarks;
+  const int bound = settings_.seif.max_active_landmarks;
   std::vector<int> A = omega_.active();
   if (bound <= 0 || static_cast<int>(A.size()) <= bound) return;
   std::stable_sort(A.begin(), A.end(), [&](int a, int b) {
@@ -329,7 +329,7 @@ Status SeifStorage::doAddLandmarks(const std::vector<NewLandmarkBlock>& blocks) 
 // each removal cost O(K^2) (docs/DESIGN.md "SEIF").
 Status SeifStorage::doRemoveLandmarks(const std::vector<int>& slots) {
   const int K = numLandmarks();
-  const bool exact = settings_.seif_max_active_landmarks <= 0;
+  const bool exact = settings_.seif.max_active_landmarks <= 0;
   for (int k : slots) {
     std::vector<int> N, passive;
     for (const auto& [j, B] : omega_.links(k)) (exact || omega_.isActive(j) ? N : passive).push_back(j);

@@ -8,7 +8,7 @@
 #include "backend_pair.hpp"
 #include "../basic_settings.hpp"
 
-#include "hapi_eskf/backend/backend_fault_policy.hpp"
+#include "hapi_eskf/covariance/backend_fault_policy.hpp"
 #include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/eskf/storage_factory.hpp"
 

@@ -1,6 +1,6 @@
 // NumberRange: the allowed values of a numeric parameter, and the one wording
 // of "out of range". ROS-free and header-only, so the ROS-free cores'
-// settings tables (hapi_eskf's eskf_settings.def, hapi_frontend's
+// settings tables (hapi_eskf's settings.hpp, hapi_frontend's
 // PipelineParams) and the nodelets' own parameters (~time_jump_reset) all
 // declare their ranges with this one type and report a violation with the
 // same text: "<name> must be <range>[ <unit>], got <value>".

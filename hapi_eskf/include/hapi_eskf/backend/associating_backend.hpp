@@ -19,6 +19,7 @@
 #include "hapi_eskf/backend/descriptor_pool.hpp"
 #include "hapi_eskf/backend/landmark_book.hpp"
 #include "hapi_eskf/backend/slam_backend.hpp"
+#include "hapi_eskf/settings.hpp"
 
 #include <functional>
 #include <memory>

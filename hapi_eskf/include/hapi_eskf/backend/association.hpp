@@ -6,8 +6,8 @@
 // end: each provides descriptors and marginals as an AssociationSource.
 #pragma once
 
+#include "hapi_eskf/backend/association_settings.hpp"
 #include "hapi_eskf/backend/association_source.hpp"
-#include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
 
@@ -54,7 +54,7 @@ std::vector<char> ransacRigidInliers(const std::vector<Vec3>& X, const std::vect
 // the camera's (MotionModel::cameraJacobian; the identity for the camera
 // models), so the gate uses the same measurement Jacobian as the update.
 Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& camera_jacobian,
-                 const std::vector<Vec3>& positions, const AssociationSource& source, const EskfSettings& settings,
+                 const std::vector<Vec3>& positions, const AssociationSource& source, const AssociationSettings& settings,
                  Association* out);
 
 }  // namespace hapi_eskf

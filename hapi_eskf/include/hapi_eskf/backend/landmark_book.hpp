@@ -21,7 +21,7 @@
 #pragma once
 
 #include "hapi_eskf/backend/association.hpp"
-#include "hapi_eskf/settings.hpp"
+#include "hapi_eskf/backend/pool_settings.hpp"
 #include "hapi_eskf/types.hpp"
 
 #include <Eigen/Core>
@@ -50,17 +50,17 @@ class LandmarkBook {
   static std::vector<int> byResponse(const StereoFrame& frame);
   // The associated measurements used in the update (policy above).
   static std::vector<int> chooseUpdates(const Association& assoc, const std::vector<int>& by_response,
-                                        const EskfSettings& settings);
+                                        const PoolSettings& settings);
   // The measurements that would start landmarks (policy above), before the
   // pool's room is considered.
   std::vector<int> chooseAdditions(const Association& assoc, const std::vector<int>& by_response,
-                                   const EskfSettings& settings) const;
+                                   const PoolSettings& settings) const;
   // Slots to remove (ascending) so that additions fit (policy above);
   // `protected_slot[k]` != 0 marks the landmarks of this frame's update.
   std::vector<int> chooseRemovals(int n_additions, const std::vector<char>& protected_slot,
-                                  const EskfSettings& settings) const;
+                                  const PoolSettings& settings) const;
   // How many of n_additions fit now.
-  int additionsThatFit(int n_additions, const EskfSettings& settings) const;
+  int additionsThatFit(int n_additions, const PoolSettings& settings) const;
 
   // A landmark was used in an update at `stamp` (its colour follows the latest view).
   void observe(int slot, double stamp, const std::array<uint8_t, 3>& rgb);

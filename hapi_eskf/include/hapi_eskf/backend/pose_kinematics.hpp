@@ -6,20 +6,20 @@
 // thesis's printed equations contain typos).
 #pragma once
 
-#include "hapi_eskf/settings.hpp"
+#include "hapi_eskf/backend/motion_settings.hpp"
 #include "hapi_eskf/types.hpp"
 
 namespace hapi_eskf {
 
 // Constant-velocity step of length dt (docs/DESIGN.md "Predict"):
 //   p <- p + R v dt; R <- R Exp(w dt); v <- Gamma^dt v; w <- Lambda^dt w.
-PoseState predictPose(const PoseState& x, double dt, const EskfSettings& s);
+PoseState predictPose(const PoseState& x, double dt, const MotionSettings& s);
 
 // F = d(error after predict) / d(error before), 12 x 12.
-Mat12 predictJacobian(const PoseState& x, double dt, const EskfSettings& s);
+Mat12 predictJacobian(const PoseState& x, double dt, const MotionSettings& s);
 
 // Process noise for a step of length dt: random walks on v and w.
-Mat12 processNoise(double dt, const EskfSettings& s);
+Mat12 processNoise(double dt, const MotionSettings& s);
 
 // The same random walks seen on the pose [dp, dtheta] alone, integrated twice
 // over dt (sigma^2 dt^3 / 3): the pose noise of back ends without velocity
@@ -38,7 +38,7 @@ PoseMat predictPoseCovariance(const PoseMat& C, const PoseMat& F, const PoseMat&
 // Q_rep,ww = sigma^2 / dt (white rate noise of density sigma averaged over
 // dt); combined with the constant-velocity step F = F_cv F_rep,
 // Q = F_cv Q_rep F_cv^T + Q_cv.
-void gyroStep(const PoseState& x, const Vec3& gyro_camera, double sigma_gyro, double dt, const EskfSettings& s,
+void gyroStep(const PoseState& x, const Vec3& gyro_camera, double sigma_gyro, double dt, const MotionSettings& s,
               PoseState* next, Mat12* F, Mat12* Q);
 
 // Injects the pose part of an error-state correction: p += dp,

@@ -9,13 +9,13 @@
 // questions; the back end moves its own pose.
 #pragma once
 
-#include "hapi_eskf/settings.hpp"
+#include "hapi_eskf/backend/association_settings.hpp"
 
 namespace hapi_eskf {
 
 class Relocaliser {
  public:
-  explicit Relocaliser(const EskfSettings& settings)
+  explicit Relocaliser(const AssociationSettings& settings)
       : gap_(settings.relocalise_gap), can_fit_(settings.ransac_iterations > 0) {}
 
   // A new timeline starting at `stamp` (reset, gravity alignment).

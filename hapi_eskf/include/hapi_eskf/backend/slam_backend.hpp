@@ -16,7 +16,6 @@
 // no call throws on bad input.
 #pragma once
 
-#include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
 

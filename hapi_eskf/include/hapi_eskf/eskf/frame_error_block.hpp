@@ -31,10 +31,15 @@
 
 namespace hapi_eskf {
 
-// Sigma_f in the camera frame [dp, dtheta] (frame_translation_sigma on each
-// axis, frame_rotation_sigma about x and y, frame_optical_axis_sigma about
-// the optical axis). Also the floor Graph SLAM adds to its tracked pose.
-Mat6 frameErrorCameraCovariance(const EskfSettings& s);
+// Whether the ES-EKF models the frame-shared vision error: with a model that
+// predicts from an IMU (gyro, inertial), whose tight frame-to-frame link
+// would otherwise take the frames' shared errors as information, and any
+// frame_* sigma > 0. constant_velocity's angular-velocity random walk absorbs
+// them (consistent without, conservative with it: docs/ACCURACY.md
+// "Consistency"). Not over the SEIF's storage: its information-form motion
+// update inverts the transition, and the frame error's (a copy, a restore)
+// are singular. Sigma_f itself: MeasurementSettings::frameErrorCameraCovariance.
+bool frameErrorModelled(const EskfSettings& s);
 
 // The backend's pose block for the settings: the motion model's
 // (poseDim(s.motion_model)), plus kFrameErrorDim spare rows when the

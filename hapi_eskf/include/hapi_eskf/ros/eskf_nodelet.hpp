@@ -38,8 +38,8 @@
 // fresh filter.
 #pragma once
 
-#include "hapi_eskf/backend/backend_fault_policy.hpp"
 #include "hapi_eskf/backend/slam_backend.hpp"
+#include "hapi_eskf/covariance/backend_fault_policy.hpp"
 #include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/ros/graph_refiner.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"

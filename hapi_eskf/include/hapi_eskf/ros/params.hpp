@@ -1,6 +1,6 @@
 // Private (~) parameters of hapi_eskf/EskfNodelet, read and validated once at
 // start-up. The nodelet's own parameters are declared once in
-// nodelet_params.def, the filter's in eskf_settings.def (names, defaults,
+// nodelet_params.def, the filter's in its parts' tables (settings.hpp) (names, defaults,
 // ranges, units: hapi_eskf/field_table.hpp); ~time_jump_reset belongs to the
 // stamp guard and is declared in hapi_nodelet_kit (stamp_guard.hpp), the same
 // in every nodelet. config/eskf.yaml documents every one of them with its

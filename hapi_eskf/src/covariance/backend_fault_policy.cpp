@@ -1,5 +1,5 @@
 // Decisions after a backend fault (backend_fault_policy.hpp).
-#include "hapi_eskf/backend/backend_fault_policy.hpp"
+#include "hapi_eskf/covariance/backend_fault_policy.hpp"
 
 namespace hapi_eskf {
 

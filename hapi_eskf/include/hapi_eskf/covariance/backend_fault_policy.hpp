@@ -13,7 +13,7 @@
 // ROS-free; owned and called by one thread (the nodelet's worker).
 #pragma once
 
-#include "hapi_eskf/settings.hpp"
+#include "hapi_eskf/covariance/storage_settings.hpp"
 
 namespace hapi_eskf {
 
