@@ -1,29 +1,20 @@
-// Checks and text forms of EskfSettings, all driven by the field table
-// (the parts' .def lists): the only hand-written rules are those between
+// Checks and text forms of EskfSettings, all driven by the parts' tables
+// (settings_table.hpp, as every table's): the only hand-written rules are those between
 // fields (PoolSettings::crossFieldError).
 #include "hapi_eskf/settings.hpp"
 
-#include <type_traits>
+#include "hapi_eskf/settings_table.hpp"
 
 namespace hapi_eskf {
 
 std::string EskfSettings::validate() const {
-  std::string err;
-  forEachField(*this, [&](const FieldInfo& f, const auto& v) {
-    if (err.empty()) err = rangeError(f, v);
-  });
+  const std::string err = fieldRangeError(*this);
   if (!err.empty()) return err;
   return crossFieldError();
 }
 
 std::string setFieldFromText(EskfSettings* s, const std::string& name, const std::string& value) {
-  std::string err = "unknown setting '" + name + "'";
-  forEachField(*s, [&](const FieldInfo& f, auto& v) {
-    if (name != f.name) return;
-    using T = std::decay_t<decltype(v)>;
-    err = parseValue(value, &v) ? "" : name + " must be " + expectedText<T>() + ", got '" + value + "'";
-  });
-  return err;
+  return setTableFieldFromText(s, name, value);
 }
 
 const char* toString(BackendAlgorithm a) { return enumToString(a); }

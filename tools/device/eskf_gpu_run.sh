@@ -4,12 +4,9 @@
 # in-filter comparison of the CUDA variants. Logs go to $OUT (or ./device-out).
 #   tools/device/eskf_gpu_run.sh            (carry .device, see prepare.sh)
 set -uo pipefail
-# A device test that skips for want of a GPU fails here (test/gtest/hapi_test/skip.hpp).
-export HAPI_REQUIRE_GPU=1
-REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-OUT="${OUT:-$REPO/device-out}"
-mkdir -p "$OUT"
-B="$REPO/build-device"
+# HAPI_REQUIRE_GPU=1, REPO, OUT, B
+# shellcheck source=device_env.sh
+source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
 nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm,power.limit --format=csv | tee "$OUT/device.txt"
 git -C "$REPO" log -1 --format='commit %H' 2>/dev/null | tee -a "$OUT/device.txt"
 git -C "$REPO" status --short 2>/dev/null | head -20 | tee -a "$OUT/device.txt"

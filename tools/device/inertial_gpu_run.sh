@@ -7,12 +7,9 @@
 # per-frame times. Streams: .device/streams/*.txt (dump_frames.py output,
 # carried with the call). Logs go to $OUT (or ./device-out).
 set -uo pipefail
-# A device test that skips for want of a GPU fails here (test/gtest/hapi_test/skip.hpp).
-export HAPI_REQUIRE_GPU=1
-REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-OUT="${OUT:-$REPO/device-out}"
-mkdir -p "$OUT"
-B="$REPO/build-device"
+# HAPI_REQUIRE_GPU=1, REPO, OUT, B
+# shellcheck source=device_env.sh
+source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
 nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv | tee "$OUT/device.txt"
 bash "$REPO/tools/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
 echo "build ok"

@@ -9,11 +9,9 @@
 #   tools/device/latency_gpu_run.sh "SCENARIO OPTIONS [--frontend n=v ...]" ...
 #   carry .device/eigen3, .device/googletest and .device/opencv.tar.xz
 set -uo pipefail
-# A device test that skips for want of a GPU fails here (test/gtest/hapi_test/skip.hpp).
-export HAPI_REQUIRE_GPU=1
-REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-OUT="${OUT:-$REPO/device-out}"
-mkdir -p "$OUT"
+# HAPI_REQUIRE_GPU=1, REPO, OUT
+# shellcheck source=device_env.sh
+source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
 B="$REPO/build-device-latency"
 CV="$(mktemp -d)"
 tar -C "$CV" -xJf "$REPO/.device/opencv.tar.xz"

@@ -17,12 +17,9 @@
 # printed at the end.
 #   tools/device/partitioned_gpu_run.sh [45000]     (carry .device, see prepare.sh)
 set -uo pipefail
-# A device test that skips for want of a GPU fails here (test/gtest/hapi_test/skip.hpp).
-export HAPI_REQUIRE_GPU=1
-REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-OUT="${OUT:-$REPO/device-out}"
-mkdir -p "$OUT"
-B="$REPO/build-device"
+# HAPI_REQUIRE_GPU=1, REPO, OUT, B
+# shellcheck source=device_env.sh
+source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
 nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm,power.limit --format=csv | tee "$OUT/device.txt"
 bash "$REPO/tools/device/build_core.sh" "$B" "hapi_eskf" >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
 echo "build ok"

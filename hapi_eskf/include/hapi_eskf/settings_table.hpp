@@ -1,6 +1,6 @@
 // The range check and the key=value setter of any settings table that has a
 // forEachField() (field_table.hpp), written once for the back ends' tables
-// (graph_settings.hpp, fastslam_settings.hpp).
+// (settings.hpp, graph_settings.hpp, fastslam_settings.hpp).
 #pragma once
 
 #include "hapi_eskf/field_table.hpp"
