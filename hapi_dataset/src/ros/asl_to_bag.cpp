@@ -167,20 +167,10 @@ int main(int argc, char** argv) {
     for (const auto& [t_ns, kind, i] : events) {
       const ros::Time t = stamp(t_ns);
       if (kind == kImuSample) {
-        const ImuSample& s = rec.imu[i];
-        sensor_msgs::Imu m;
-        m.header.stamp = t;
-        m.header.frame_id = kImu;
-        m.orientation_covariance[0] = -1.0;  // no orientation estimate (REP-145)
-        tf2::toMsg(s.angular_velocity, m.angular_velocity);
-        tf2::toMsg(s.linear_acceleration, m.linear_acceleration);
         // Discrete white-noise variance = density^2 * rate; 0 (unknown) when
         // sensor.yaml states no density.
-        for (int k = 0; k < 3; ++k) {
-          m.angular_velocity_covariance[4 * k] = gyro_var;
-          m.linear_acceleration_covariance[4 * k] = accel_var;
-        }
-        bag.write("/imu/data", t, m);
+        const ImuSample& s = rec.imu[i];
+        bag.write("/imu/data", t, toImuMsg(t, s.angular_velocity, s.linear_acceleration, gyro_var, accel_var));
       } else if (kind == kTruth) {
         const Eigen::Isometry3d T_W_cam = cameraInWorld(rec.ground_truth[i].T_W_B, rec.cam0);
         geometry_msgs::PoseStamped gt;

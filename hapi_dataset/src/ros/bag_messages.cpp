@@ -52,4 +52,19 @@ geometry_msgs::Pose toPoseMsg(const Eigen::Vector3d& p, const Eigen::Quaterniond
   return m;
 }
 
+sensor_msgs::Imu toImuMsg(const ros::Time& t, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
+                          double gyro_variance, double accel_variance) {
+  sensor_msgs::Imu m;
+  m.header.stamp = t;
+  m.header.frame_id = recording_frames::kImu;
+  m.orientation_covariance[0] = -1.0;
+  tf2::toMsg(gyro, m.angular_velocity);
+  tf2::toMsg(accel, m.linear_acceleration);
+  for (int k = 0; k < 3; ++k) {
+    m.angular_velocity_covariance[4 * k] = gyro_variance;
+    m.linear_acceleration_covariance[4 * k] = accel_variance;
+  }
+  return m;
+}
+
 }  // namespace hapi_dataset

@@ -145,17 +145,7 @@ int main(int argc, char** argv) {
           if (!bag) return;
           const int64_t ns = sc.imuTimeNs(i);
           const ros::Time stamp = stampAt(ns);
-          sensor_msgs::Imu m;
-          m.header.stamp = stamp;
-          m.header.frame_id = kImu;
-          m.orientation_covariance[0] = -1.0;  // no orientation estimate (REP-145)
-          tf2::toMsg(r.gyro, m.angular_velocity);
-          tf2::toMsg(r.accel, m.linear_acceleration);
-          for (int a = 0; a < 3; ++a) {
-            m.angular_velocity_covariance[4 * a] = sg2;
-            m.linear_acceleration_covariance[4 * a] = sa2;
-          }
-          bag->write("/imu/data", stamp, m);
+          bag->write("/imu/data", stamp, hapi_dataset::toImuMsg(stamp, r.gyro, r.accel, sg2, sa2));
           const double t = ns * 1e-9;
           bag->write("/ground_truth/odometry", stamp, toOdometryMsg(stamp, kWorld, kGt, sc.leftCameraInScene(t)));
           bag->write("/ground_truth/imu_odometry", stamp, toOdometryMsg(stamp, kInertial, kGtImu, sc.imuInInertial(t)));

@@ -11,6 +11,7 @@
 #include <ros/time.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
 
 #include <Eigen/Geometry>
 #include <boost/make_shared.hpp>
@@ -39,6 +40,10 @@ geometry_msgs::TransformStamped toTransformMsg(const ros::Time& t, const std::st
 // Position and quaternion as they are (tf2::toMsg of an Isometry3d would go
 // through the rotation matrix and flip the sign to w >= 0).
 geometry_msgs::Pose toPoseMsg(const Eigen::Vector3d& p, const Eigen::Quaterniond& q);
+// An IMU sample in frame kImu: no orientation (REP-145: covariance[0] = -1),
+// the white-noise variance of each axis on the diagonals (0: unknown).
+sensor_msgs::Imu toImuMsg(const ros::Time& t, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
+                          double gyro_variance, double accel_variance);
 
 // Latched connections (tf_static, calibration and scene descriptions) need an
 // explicit connection header so that `rosbag play` re-advertises them latched.
