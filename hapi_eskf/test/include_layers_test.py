@@ -61,7 +61,7 @@ def offences(root):
             if not m:
                 continue
             target = m.group(1)
-            if target == role or target == "ros" and role == "ros":
+            if target == role:
                 continue
             if role == "top":
                 ok = False

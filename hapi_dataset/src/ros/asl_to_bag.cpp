@@ -26,7 +26,6 @@
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <sensor_msgs/CameraInfo.h>
-#include <sensor_msgs/Imu.h>
 #include <std_msgs/String.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>

@@ -25,9 +25,7 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
-#include <sensor_msgs/Imu.h>
 #include <std_msgs/String.h>
-#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <cmath>
