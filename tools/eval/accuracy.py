@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Accuracy of the back end's motion models on the simulation scenarios.
+"""Accuracy of the back end's motion models on the simulation scenarios or a recording.
 
 For every scenario (scene x trajectory of hapi_sim's make_sim_bag) and every
 motion model it runs the system offline and scores the result against the
@@ -15,6 +15,13 @@ simulator's ground truth (docs/ACCURACY.md records the figures):
     accuracy.py [--scenarios skin:handheld,globe:smooth,...] [--models constant_velocity,gyro,inertial]
                 [--seeds 1] [--duration 30] [--data DIR] [--out DIR] [--markdown FILE] [--set key=value ...]
     accuracy.py --nees-seeds 20 --scenarios skin:handheld --models inertial --duration 10
+    accuracy.py --recording DIR [--rate-divisor auto|N] [--models ...] [--data DIR] ...
+
+--recording: an ASL/EuRoC recording (the folder holding mav0/, or mav0)
+instead of the scenarios, converted to a bag as the main job does
+(scripts/run_dataset.sh --convert-only: asl_to_bag, the same stereo rate
+rule and cache key, the cache in --data), then the same offline path and
+table; its scenario name is the recording's folder name.
 
 Needs a built workspace's environment (source devel/setup.bash). The front end
 runs with config/frontend.yaml's values except where FRONTEND_BY_SCENE says
@@ -25,7 +32,9 @@ the camera clock, the truth is on the IMU clock (the bag's
 are moved to the truth's clock before they are compared.
 
 A run "diverged" when its ATE exceeds 5 % of the distance travelled, its
-largest error exceeds 0.2 m, or the replay failed.
+largest error exceeds 0.2 m, or the replay failed. A truth that stands still
+(run_analysis.is_standstill: its net travel) is scored by the estimate's
+drift from its first pose instead of ATE % and the aligned rotation error.
 """
 import argparse
 import math
@@ -38,6 +47,7 @@ import yaml
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import evaluation as ev  # noqa: E402
+import recording  # noqa: E402
 import run_analysis  # noqa: E402
 import trajectory_metrics as tm  # noqa: E402
 
@@ -48,8 +58,6 @@ TRAJECTORIES = ("smooth", "handheld", "fast", "loop", "subject", "rest")
 MODELS = ("constant_velocity", "gyro", "inertial")
 FRONTEND_BY_SCENE = {"skin": ["fast_threshold=8", "refine_min_zncc=0.8"]}
 DIVERGED_FRACTION, DIVERGED_MAX_M = 0.05, 0.2
-# A truth that travels less than this is a device standing still: scored by its drift, not by ATE % of distance.
-STANDSTILL_TRAVEL_M = 0.005
 
 
 def run(cmd, log):
@@ -60,25 +68,40 @@ def run(cmd, log):
     return p.returncode, p.stdout
 
 
+def landmark_stream(bag, name, frontend_args, data, log):
+    """The landmark stream text of a bag (front end and dump_frames.py; cached in data as NAME_stream.txt)."""
+    lm, txt = (os.path.join(data, name + ext) for ext in ("_landmarks.bag", "_stream.txt"))
+    if os.path.exists(txt) and os.path.getmtime(txt) >= os.path.getmtime(bag):
+        return txt
+    st, _ = run(["rosrun", "hapi_frontend", "frontend_replay", bag, lm] + frontend_args, log)
+    if st != 0:
+        raise RuntimeError(f"frontend_replay failed for {name} (see {log})")
+    st, _ = run(["/usr/bin/python3", DUMP_FRAMES, lm, txt + ".tmp"], log)
+    if st != 0:
+        raise RuntimeError(f"dump_frames.py failed for {name} (see {log})")
+    os.replace(txt + ".tmp", txt)
+    return txt
+
+
 def stream_for(scene, traj, seed, duration, data, log):
     """The landmark stream of a scenario (generated and cached on first use)."""
     name = f"{scene}_{traj}_s{seed}_{duration:g}s"
-    bag, lm, txt = (os.path.join(data, name + ext) for ext in (".bag", "_landmarks.bag", "_stream.txt"))
-    if not os.path.exists(txt):
-        if not os.path.exists(bag):
-            st, _ = run(["rosrun", "hapi_sim", "make_sim_bag", "--scene", scene, "--trajectory", traj, "--seed",
-                         str(seed), "--duration", str(duration), "--output", bag + ".tmp"], log)
-            if st != 0:
-                raise RuntimeError(f"make_sim_bag failed for {name} (see {log})")
-            os.replace(bag + ".tmp", bag)
-        st, _ = run(["rosrun", "hapi_frontend", "frontend_replay", bag, lm] + FRONTEND_BY_SCENE.get(scene, []), log)
+    bag = os.path.join(data, name + ".bag")
+    if not os.path.exists(bag):
+        st, _ = run(["rosrun", "hapi_sim", "make_sim_bag", "--scene", scene, "--trajectory", traj, "--seed",
+                     str(seed), "--duration", str(duration), "--output", bag + ".tmp"], log)
         if st != 0:
-            raise RuntimeError(f"frontend_replay failed for {name} (see {log})")
-        st, _ = run(["/usr/bin/python3", DUMP_FRAMES, lm, txt + ".tmp"], log)
-        if st != 0:
-            raise RuntimeError(f"dump_frames.py failed for {name} (see {log})")
-        os.replace(txt + ".tmp", txt)
-    return name, bag, txt
+            raise RuntimeError(f"make_sim_bag failed for {name} (see {log})")
+        os.replace(bag + ".tmp", bag)
+    return name, bag, landmark_stream(bag, name, FRONTEND_BY_SCENE.get(scene, []), data, log)
+
+
+def recording_stream(folder, rate_divisor, data, log):
+    """The landmark stream of an ASL/EuRoC recording: converted to a bag by
+    scripts/run_dataset.sh --convert-only (its cache and key, in data)."""
+    bag = recording.convert(folder, rate_divisor, data, log)
+    return recording.name(bag), bag, landmark_stream(bag, os.path.splitext(os.path.basename(bag))[0], [], data,
+                                                        log)
 
 
 def time_offset(bag):
@@ -124,35 +147,33 @@ def replay(txt, model, offset, prefix, log, settings=()):
     return st, events
 
 
+def anchor_pose(prefix, offset, truth):
+    """(est_p0, est_r0, ref_p0, ref_r0) where the filter defined its world (its
+    reset or gravity alignment, eskf_replay's PREFIX_anchor.txt) and the truth
+    interpolated there; None without."""
+    a = load_rows(prefix + "_anchor.txt")
+    if not len(a) or a.shape[1] < 8:
+        return None
+    ia, a_p, a_r = tm.interpolate_poses(truth["t"], truth["p"], tm.rotations_from_quats(truth["q"]),
+                                        a[:1, 0] + offset, max_gap=0.2)
+    if not len(ia):
+        return None
+    return a[0, 1:4], tm.rotations_from_quats(a[:1, 4:8])[0], a_p[0], a_r[0]
+
+
 def evaluate(prefix, model, offset, truth, truth_twist):
-    """Metrics of one replay against the truth, on the truth's clock."""
+    """Metrics of one replay against the truth, on the truth's clock. The pose
+    NEES is anchored (trajectory_metrics.anchored_pose_nees): the frames tied
+    where the filter defines its world, the truth interpolated there."""
     est = load_rows(prefix + "_estimate.tum")
     cov = load_rows(prefix + "_covariance.txt")
     if len(est) < 3:
         return None, None
     e = {"t": est[:, 0] + offset, "p": est[:, 1:4], "q": est[:, 4:8]}
-    rep, series = run_analysis.analyse(e, truth, max_dt=0.006)  # without covariances: NEES is anchored, below
-    if ev.path_length(truth["p"]) < STANDSTILL_TRAVEL_M:
-        # Standing still: how far the estimate wanders from where it started.
-        rep["standstill_drift_m"] = float(np.max(np.linalg.norm(e["p"] - e["p"][0], axis=1)))
-        r = tm.rotations_from_quats(e["q"])
-        rep["standstill_rotation_drift_deg"] = float(np.degrees(max(np.linalg.norm(tm.so3_log(x @ r[0].T)) for x in r)))
-        # The SE(3) alignment of a trajectory that stays at one point leaves its rotation free.
-        rep["rotation_rmse_deg"] = None
-    e["cov"] = cov[:, 1:].reshape(-1, 6, 6)
-    # NEES with the frames tied where the filter defines its world
-    # (trajectory_metrics.anchored_pose_nees): the truth interpolated there.
-    ie, g_p, g_r = run_analysis.match(e, truth, 0.006)
-    a = load_rows(prefix + "_anchor.txt")
-    ia, a_p, a_r = tm.interpolate_poses(truth["t"], truth["p"], tm.rotations_from_quats(truth["q"]),
-                                        a[:1, 0] + offset, max_gap=0.2) if len(a) else ([], None, None)
-    if len(ie) >= 3 and len(ia):
-        anchor = (a[0, 1:4], tm.rotations_from_quats(a[:1, 4:8])[0], a_p[0], a_r[0])
-        n_p, n_r = tm.anchored_pose_nees(e["p"][ie], tm.rotations_from_quats(e["q"][ie]), g_p, g_r, e["cov"][ie],
-                                         anchor)
-        for key, vals in (("nees_position", n_p), ("nees_rotation", n_r)):
-            rep[key] = tm.nees_summary(vals)
-            series[key] = vals
+    anchor = anchor_pose(prefix, offset, truth)
+    if anchor is not None and len(cov) == len(est):
+        e["cov"] = cov[:, 1:].reshape(-1, 6, 6)
+    rep, series = run_analysis.analyse(e, truth, max_dt=0.006, anchor=anchor)
     # Velocity output: at the IMU rate for the IMU models (the nodelet's
     # IMU-rate odometry), per frame for constant_velocity (the state's v, w).
     rate_file = prefix + "_imu_rate.txt" if model != "constant_velocity" else prefix + "_frame_twist.txt"
@@ -225,41 +246,62 @@ def anees(results):
     return out
 
 
-def main(argv=None):
+def score_stream(label, bag, txt, models, seed, out, log, settings):
+    """Every motion model's replay of one landmark stream, scored: the table's rows."""
+    offset = time_offset(bag)
+    truth, truth_twist, lm_per_frame = read_stream_truth(txt)
+    rows = []
+    for model in models:
+        prefix = os.path.join(out, f"{os.path.basename(txt)[:-len('_stream.txt')]}_{model}")
+        status, events = replay(txt, model, offset, prefix, log, settings)
+        rep, series = evaluate(prefix, model, offset, truth, truth_twist) if status == 0 else (None, None)
+        r = {"scenario": label, "model": model, "seed": seed, "landmarks_per_frame": lm_per_frame, "metrics": rep,
+             "events": events, "diverged": diverged(rep, status), "series": series}
+        rows.append(r)
+        print(table([r]).splitlines()[2], flush=True)
+    return rows
+
+
+def parse_args(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scenarios", default=",".join(f"{s}:{t}" for s in SCENES for t in TRAJECTORIES))
+    ap.add_argument("--recording", metavar="DIR",
+                    help="an ASL/EuRoC recording (the folder holding mav0/, or mav0) instead of the scenarios")
+    ap.add_argument("--rate-divisor", default="auto",
+                    help="with --recording: every N-th stereo frame, or auto (scripts/run_dataset.sh's rule)")
     ap.add_argument("--models", default=",".join(MODELS))
     ap.add_argument("--seeds", type=int, default=1, help="seeds 1..N per scenario")
     ap.add_argument("--nees-seeds", type=int, default=0, help="ANEES over seeds 1..N (one scenario, one model)")
     ap.add_argument("--duration", type=float, default=30.0)
-    ap.add_argument("--data", default=os.path.join(REPO, ".data", "sim"))
+    ap.add_argument("--data", default=os.path.join(REPO, ".data", "sim"),
+                    help="cache of the generated or converted bags and their landmark streams")
     ap.add_argument("--out", default="/tmp/hapi_accuracy")
     ap.add_argument("--markdown")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="a filter setting for every replay (eskf_replay key=value; repeatable)")
-    a = ap.parse_args(argv)
+    return ap.parse_args(argv)
+
+
+def main(argv=None):
+    a = parse_args(argv)
     os.makedirs(a.data, exist_ok=True)
     os.makedirs(a.out, exist_ok=True)
     log = os.path.join(a.out, "accuracy.log")
+    models = a.models.split(",")
     seeds = range(1, (a.nees_seeds or a.seeds) + 1)
     results = []
-    for sc in a.scenarios.split(","):
-        scene, traj = sc.split(":")
-        for seed in seeds:
-            name, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log)
-            offset = time_offset(bag)
-            truth, truth_twist, lm_per_frame = read_stream_truth(txt)
-            for model in a.models.split(","):
-                prefix = os.path.join(a.out, f"{name}_{model}")
-                status, events = replay(txt, model, offset, prefix, log, a.set)
-                rep, series = evaluate(prefix, model, offset, truth, truth_twist) if status == 0 else (None, None)
-                r = {"scenario": f"{scene}/{traj}" + (f" s{seed}" if len(seeds) > 1 else ""), "model": model,
-                     "seed": seed, "landmarks_per_frame": lm_per_frame, "metrics": rep, "events": events,
-                     "diverged": diverged(rep, status), "series": series}
-                results.append(r)
-                print(table([r]).splitlines()[2], flush=True)
+    if a.recording:
+        name, bag, txt = recording_stream(a.recording, a.rate_divisor, a.data, log)
+        results += score_stream(name, bag, txt, models, 0, a.out, log, a.set)
+    else:
+        for sc in a.scenarios.split(","):
+            scene, traj = sc.split(":")
+            for seed in seeds:
+                _, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log)
+                label = f"{scene}/{traj}" + (f" s{seed}" if len(seeds) > 1 else "")
+                results += score_stream(label, bag, txt, models, seed, a.out, log, a.set)
     text = table(results)
-    report = {"command": " ".join(sys.argv), "duration_s": a.duration,
+    report = {"command": " ".join(sys.argv), "duration_s": None if a.recording else a.duration,
               "runs": [{k: v for k, v in r.items() if k != "series"} for r in results]}
     if a.nees_seeds:
         report["anees"] = run_analysis.to_plain(anees(results))
