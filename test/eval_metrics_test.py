@@ -257,6 +257,48 @@ class VelocityTest(unittest.TestCase):
         self.assertEqual(rep["velocity_samples"], len(t))
 
 
+class StandstillTest(unittest.TestCase):
+    """A truth that stands still with a real ground truth's jitter: 1 mm at
+    20 Hz adds centimetres of path length, but its net travel stays small; the
+    estimate is scored by its drift from its first pose, the NEES anchored."""
+
+    def standing(self, drift_m, drift_rad):
+        rng = np.random.default_rng(3)
+        t = np.arange(100) / 20.0
+        g_p = 0.4e-3 * rng.standard_normal((100, 3)).clip(-2, 2)
+        g_r = np.array([np.eye(3)] * 100)
+        e_p = np.outer(t / t[-1], [drift_m, 0.0, 0.0])
+        e_r = np.array([rot_z(drift_rad * ti / t[-1]) for ti in t])
+        est = dict(as_traj(t, e_p, e_r), cov=np.array([np.eye(6) * 1e-4] * 100))
+        return run_analysis.analyse(est, as_traj(t, g_p, g_r), max_dt=0.001)[0]
+
+    def test_jitter_is_no_travel(self):
+        rep = self.standing(0.004, np.radians(0.5))
+        self.assertGreater(rep["distance_travelled_m"], 0.05)  # the path length of the jitter
+        self.assertTrue(rep["standstill"])
+        self.assertLess(rep["truth_net_travel_m"], run_analysis.STANDSTILL_MAX_NET_TRAVEL_M)
+        self.assertAlmostEqual(rep["standstill_rotation_drift_deg"], 0.5, places=6)
+        self.assertAlmostEqual(rep["standstill_drift_m"], 0.004, places=9)
+        for key in ("ate_fraction_of_distance", "rotation_rmse_deg"):
+            self.assertNotIn(key, rep)
+        self.assertTrue(rep["nees_anchored"])
+        self.assertEqual(rep["nees_position"]["samples"], 100)
+
+    def test_moving_truth_is_no_standstill(self):
+        t, p, r = circle_trajectory(60)
+        rep = run_analysis.analyse(as_traj(t, p, r), as_traj(t, p, r), max_dt=0.001)[0]
+        self.assertNotIn("standstill", rep)
+        self.assertIn("ate_fraction_of_distance", rep)
+
+    def test_drift_bounds_decide_the_run(self):
+        import evaluate_run
+        good = dict(RunVerdictTest.GOOD, standstill=True, standstill_drift_m=0.004, standstill_rotation_drift_deg=0.5,
+                    ate_fraction_of_distance=None)
+        self.assertEqual(evaluate_run.failed_checks(good, RunVerdictTest.BOUNDS), {})
+        for worse in ({"standstill_drift_m": 0.02}, {"standstill_rotation_drift_deg": 2.0}):
+            self.assertIn("standing still", evaluate_run.failed_checks(dict(good, **worse), RunVerdictTest.BOUNDS)["ate"])
+
+
 class RunVerdictTest(unittest.TestCase):
     """evaluate_run.failed_checks: a complete run passes, a partial one (the
     back end died 2 s into the 15 s bag) fails on its coverage."""

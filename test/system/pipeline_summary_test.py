@@ -136,6 +136,27 @@ class PipelineSummaryTest(unittest.TestCase):
         self.assertIn("scale 1.0100", out)
         self.assertIn("position NEES", out)
 
+    def test_standstill_scored_by_drift(self):
+        # A device standing still: ATE % of the jitter's path means nothing,
+        # the drift from the first pose decides (1 cm, 1 deg by default).
+        still = dict({k: v for k, v in GOOD.items() if k != "ate_fraction_of_distance"}, standstill=True,
+                     ate_rmse_m=0.0016, ate_max_m=0.004, distance_travelled_m=0.017, truth_net_travel_m=0.0023,
+                     standstill_drift_m=0.0043, standstill_rotation_drift_deg=0.99, nees_anchored=True,
+                     nees_position={"mean": 1.4, "mean_bounds_95": [2.2, 3.9], "fraction_in_95_band": 0.9,
+                                    "samples": 47})
+        rc, out = self.run_summary(still, self.diag, "--stereo-rate-hz", "10.0")
+        self.assertEqual(rc, 0, out)
+        self.assertIn("drifts 4.30 mm, 0.990 deg from its first pose (bounds 10 mm, 1 deg: PASS)", out)
+        self.assertNotIn("% (bound", out)
+        self.assertIn("anchored at the first pose", out)
+        self.assertIn("stereo frames         : 10.00 Hz in the bag", out)
+        for worse in ({"standstill_drift_m": 0.011}, {"standstill_rotation_drift_deg": 1.5}):
+            rc, out = self.run_summary(dict(still, **worse), self.diag)
+            self.assertEqual(rc, 2, out)
+            self.assertIn("FAILED: drift standing still", out)
+        rc, out = self.run_summary(dict(still, standstill_drift_m=0.011), self.diag, "--max-drift", "0.02")
+        self.assertEqual(rc, 0, out)
+
 
 if __name__ == "__main__":
     unittest.main()

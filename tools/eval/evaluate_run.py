@@ -279,7 +279,8 @@ def nodes_not_answering(names):
 def failed_checks(res, bounds):
     """{check name: why} of every check of a run that failed. bounds: the
     test's parameters (max_ate_fraction, max_position_error (optional),
-    max_map_rms, min_pose_coverage, max_end_gap)."""
+    max_map_rms, min_pose_coverage, max_end_gap; max_drift [m] and
+    max_drift_deg, optional, bound a standstill's drift instead of the ATE)."""
     f = {}
     if not res.get("ended", False):
         f["ended"] = "odometry never went quiet (bag did not end?)"
@@ -297,6 +298,12 @@ def failed_checks(res, bounds):
         f["nodes"] = "not answering: %s" % ", ".join(res["nodes_not_answering"])
     if "ate_rmse_m" not in res:
         f["ate"] = "no odometry matched the ground truth"
+    elif res.get("standstill"):
+        d_m, d_deg = res["standstill_drift_m"], res["standstill_rotation_drift_deg"]
+        max_m = bounds.get("max_drift", run_analysis.STANDSTILL_MAX_DRIFT_M)
+        max_deg = bounds.get("max_drift_deg", run_analysis.STANDSTILL_MAX_DRIFT_DEG)
+        if d_m > max_m or d_deg > max_deg:
+            f["ate"] = "standing still, drift %.4g m, %.4g deg > %.4g m, %.4g deg" % (d_m, d_deg, max_m, max_deg)
     elif res["ate_fraction_of_distance"] > bounds["max_ate_fraction"]:
         f["ate"] = "ATE %.4g of the distance > %.4g" % (res["ate_fraction_of_distance"], bounds["max_ate_fraction"])
     elif bounds.get("max_position_error") is not None and res["ate_max_m"] > bounds["max_position_error"]:
@@ -332,7 +339,9 @@ class PipelineAccuracyTest(unittest.TestCase):
                   "max_position_error": rospy.get_param("~max_position_error", None),
                   "max_map_rms": rospy.get_param("~max_map_rms", 0.01),
                   "min_pose_coverage": rospy.get_param("~min_pose_coverage", 0.5),
-                  "max_end_gap": rospy.get_param("~max_end_gap", 1.0)}
+                  "max_end_gap": rospy.get_param("~max_end_gap", 1.0),
+                  "max_drift": rospy.get_param("~max_drift", run_analysis.STANDSTILL_MAX_DRIFT_M),
+                  "max_drift_deg": rospy.get_param("~max_drift_deg", run_analysis.STANDSTILL_MAX_DRIFT_DEG)}
         failed = failed_checks(res, bounds)
         expected = rospy.get_param("~expect_failures", [])
         if expected:

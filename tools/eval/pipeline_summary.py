@@ -2,11 +2,17 @@
 """Prints the result of one pipeline run (scripts/run_pipeline.sh).
 
     pipeline_summary.py REPORT.yaml [DIAGNOSTICS.bag] [--max-ate-fraction 0.02] [--max-map-rms 0.01]
-                        [--map-error required|if-known]
+                        [--max-drift 0.01] [--max-drift-deg 1.0] [--map-error required|if-known]
+                        [--stereo-rate-hz HZ]
 
 REPORT.yaml is what tools/eval/evaluate_run.py wrote (ATE after rigid
 alignment, map RMS to the true surfaces, rates, and the further metrics of
-tools/eval/run_analysis.py, printed when present). --map-error if-known: a
+tools/eval/run_analysis.py, printed when present). A run whose ground truth
+stands still (run_analysis.is_standstill) is scored by the estimate's drift
+from its first pose instead: at most --max-drift [m] and --max-drift-deg
+(run_analysis.STANDSTILL_MAX_DRIFT_M/_DEG, "did not wander"); its NEES is
+anchored at the first pose. --stereo-rate-hz: the bag's stereo rate, printed
+with the frames the front end dropped. --map-error if-known: a
 recording without known geometry (a real data set) has no map error, which
 is then not counted as missing; an empty map still is. DIAGNOSTICS.bag is /diagnostics
 recorded during the run: the nodelets publish per-window mean stage timings
@@ -18,10 +24,14 @@ Exit status: 0 all metrics present and within bounds, 1 something missing (the
 run did not produce it: never guessed), 2 a metric outside its bound.
 """
 import argparse
+import os
 import re
 import sys
 
 import yaml
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import run_analysis  # noqa: E402
 
 COUNTER_RE = re.compile(r"processed|updates|frames", re.IGNORECASE)
 TIME_RE = re.compile(r"\[ms\]$|_ms$", re.IGNORECASE)  # "time match [ms]", "t_update_ms"
@@ -114,12 +124,13 @@ def print_further_metrics(rep):
     if "rpe_1s_translation_rmse_m" in rep:
         print(f"RPE over 1 s          : {rep['rpe_1s_translation_rmse_m'] * 100:.2f} cm, "
               f"{rep['rpe_1s_rotation_rmse_deg']:.3f} deg RMS ({rep['rpe_1s_pairs']} pairs)")
+    tied = ", anchored at the first pose" if rep.get("nees_anchored") else ""
     for key, label in (("nees_position", "position NEES"), ("nees_rotation", "rotation NEES")):
         if key in rep:
             n = rep[key]
             lo, hi = n["mean_bounds_95"]
             print(f"{label:<22s}: mean {n['mean']:.2f} (95 % bounds of the mean {lo:.2f}..{hi:.2f}, "
-                  f"{n['fraction_in_95_band'] * 100:.0f} % of {n['samples']} samples in the 3-dof band)")
+                  f"{n['fraction_in_95_band'] * 100:.0f} % of {n['samples']} samples in the 3-dof band{tied})")
     if "angular_velocity_rms_rad_s" in rep:
         print(f"velocity error        : angular {rep['angular_velocity_rms_rad_s']:.4f} rad/s, "
               f"linear {rep['linear_velocity_rms_m_s']:.4f} m/s RMS ({rep['velocity_samples']} samples)")
@@ -129,13 +140,49 @@ def print_further_metrics(rep):
         print(f"plots                 : none ({rep['plots_missing']})")
 
 
+def score_trajectory(rep, a, failed):
+    """Prints the trajectory's score: ATE % of the distance, or the drift of a
+    standstill; appends to `failed` what is outside its bound."""
+    if rep.get("standstill"):
+        d_m, d_deg = rep["standstill_drift_m"], rep["standstill_rotation_drift_deg"]
+        ok = d_m <= a.max_drift and d_deg <= a.max_drift_deg
+        print(f"standing still        : the truth moves {rep['truth_net_travel_m'] * 1000:.1f} mm from its start; "
+              f"the estimate drifts {d_m * 1000:.2f} mm, {d_deg:.3f} deg from its first pose "
+              f"(bounds {a.max_drift * 1000:.0f} mm, {a.max_drift_deg:g} deg: {'PASS' if ok else 'FAIL'})")
+        print(f"ATE (rigid alignment) : RMSE {rep['ate_rmse_m'] * 100:.2f} cm, max {rep['ate_max_m'] * 100:.2f} cm "
+              f"(not scored standing still: no distance to relate it to)")
+        if not ok:
+            failed.append("drift standing still")
+        return
+    frac = rep["ate_fraction_of_distance"]
+    ok = frac <= a.max_ate_fraction
+    print(f"ATE (rigid alignment) : RMSE {rep['ate_rmse_m'] * 100:.2f} cm, max {rep['ate_max_m'] * 100:.2f} cm "
+          f"over {rep['distance_travelled_m']:.2f} m travelled = {frac * 100:.2f} % "
+          f"(bound {a.max_ate_fraction * 100:.1f} %: {'PASS' if ok else 'FAIL'})")
+    if not ok:
+        failed.append("ATE")
+
+
+def print_frame_rate(stereo_hz, timings):
+    """The stereo rate of the bag and the frames the front end dropped (it is slower than the camera)."""
+    dropped = [(name, t["account"]) for name, t in timings.items()
+               if "frontend" in name.lower() and "dropped total" in t.get("account", {})]
+    text = f"{stereo_hz:.2f} Hz in the bag" if stereo_hz else "rate of the bag unknown"
+    for name, acc in dropped:
+        text += f"; front end dropped {acc['dropped total']} frames ({int(timings[name]['frames'])} processed)"
+    print(f"stereo frames         : {text}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("report")
     ap.add_argument("diagnostics", nargs="?")
     ap.add_argument("--max-ate-fraction", type=float, default=0.02)
     ap.add_argument("--max-map-rms", type=float, default=0.01)
+    ap.add_argument("--max-drift", type=float, default=run_analysis.STANDSTILL_MAX_DRIFT_M)
+    ap.add_argument("--max-drift-deg", type=float, default=run_analysis.STANDSTILL_MAX_DRIFT_DEG)
     ap.add_argument("--map-error", choices=("required", "if-known"), default="required")
+    ap.add_argument("--stereo-rate-hz", type=float)
     a = ap.parse_args()
 
     missing, failed = [], []
@@ -152,13 +199,7 @@ def main():
           f"{rep.get('odom_rate_wall_hz', float('nan')):.2f} Hz wall)")
     print(f"ground-truth poses    : {rep.get('gt_messages', 0)}, matched {rep.get('poses_compared', 0)}")
     if "ate_rmse_m" in rep:
-        frac = rep["ate_fraction_of_distance"]
-        ok = frac <= a.max_ate_fraction
-        print(f"ATE (rigid alignment) : RMSE {rep['ate_rmse_m'] * 100:.2f} cm, max {rep['ate_max_m'] * 100:.2f} cm "
-              f"over {rep['distance_travelled_m']:.2f} m travelled = {frac * 100:.2f} % "
-              f"(bound {a.max_ate_fraction * 100:.1f} %: {'PASS' if ok else 'FAIL'})")
-        if not ok:
-            failed.append("ATE")
+        score_trajectory(rep, a, failed)
         print_further_metrics(rep)
     else:
         missing.append("ATE (no odometry matched the ground truth)")
@@ -207,6 +248,7 @@ def main():
             print(f"    {key:<34s} {mean:9.2f}   (worst window {peak:.2f})")
     if not any(t["stages"] for t in timings.values()) and timings:
         missing.append("per-stage timing (diagnostics carry no 'time ... [ms]' keys)")
+    print_frame_rate(a.stereo_rate_hz, timings)
     print("=======================================================")
     for m in missing:
         print(f"[summary] MISSING: {m}")
