@@ -149,7 +149,7 @@ class PipelineSummaryTest(unittest.TestCase):
         self.assertIn("drifts 4.30 mm, 0.990 deg from its first pose (bounds 10 mm, 1 deg: PASS)", out)
         self.assertNotIn("% (bound", out)
         self.assertIn("anchored at the first pose", out)
-        self.assertIn("stereo frames         : 10.00 Hz in the bag", out)
+        self.assertIn("stereo frames         : 10.00 Hz in the bag; eskf dropped 2 (40 processed)", out)
         for worse in ({"standstill_drift_m": 0.011}, {"standstill_rotation_drift_deg": 1.5}):
             rc, out = self.run_summary(dict(still, **worse), self.diag)
             self.assertEqual(rc, 2, out)

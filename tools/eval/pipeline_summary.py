@@ -164,12 +164,13 @@ def score_trajectory(rep, a, failed):
 
 
 def print_frame_rate(stereo_hz, timings):
-    """The stereo rate of the bag and the frames the front end dropped (it is slower than the camera)."""
-    dropped = [(name, t["account"]) for name, t in timings.items()
-               if "frontend" in name.lower() and "dropped total" in t.get("account", {})]
+    """The stereo rate of the bag and the frames each nodelet dropped (it was slower than its input)."""
     text = f"{stereo_hz:.2f} Hz in the bag" if stereo_hz else "rate of the bag unknown"
-    for name, acc in dropped:
-        text += f"; front end dropped {acc['dropped total']} frames ({int(timings[name]['frames'])} processed)"
+    for name, t in sorted(timings.items()):
+        acc = t.get("account", {})
+        dropped = acc.get("dropped total", acc.get("frames_dropped"))
+        if dropped is not None:
+            text += f"; {name.split(':')[0]} dropped {dropped} ({int(t['frames'])} processed)"
     print(f"stereo frames         : {text}")
 
 
