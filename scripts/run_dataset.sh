@@ -60,8 +60,9 @@ done
 
 # The recording's stereo rate (cam0 stamps) and the divisor that keeps at
 # most MAX_HZ of it: a front end slower than the camera drops frames.
-[[ "$MAX_HZ" =~ ^[0-9]+([.][0-9]+)?$ ]] && awk -v m="$MAX_HZ" 'BEGIN { exit !(m > 0) }' \
-  || die "--max-rate '$MAX_HZ' is not a positive rate [Hz]"
+if ! [[ "$MAX_HZ" =~ ^[0-9]+([.][0-9]+)?$ ]] || ! awk -v m="$MAX_HZ" 'BEGIN { exit !(m > 0) }'; then
+  die "--max-rate '$MAX_HZ' is not a positive rate [Hz]"
+fi
 [ -f "$MAV0/cam0/data.csv" ] || die "$MAV0/cam0 has no data.csv"
 REC_HZ="$(awk -F, '!/^#/ && NF >= 2 { if (n == 0) t0 = $1; t1 = $1; n++ }
   END { if (n > 1 && t1 > t0) printf "%.3f", (n - 1) * 1e9 / (t1 - t0); else print 0 }' "$MAV0/cam0/data.csv")"
