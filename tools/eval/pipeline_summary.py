@@ -140,27 +140,30 @@ def print_further_metrics(rep):
         print(f"plots                 : none ({rep['plots_missing']})")
 
 
+def verdict(ok, failed, what):
+    """'PASS' or 'FAIL'; a failure is appended to `failed` as `what`."""
+    if not ok:
+        failed.append(what)
+    return "PASS" if ok else "FAIL"
+
+
 def score_trajectory(rep, a, failed):
     """Prints the trajectory's score: ATE % of the distance, or the drift of a
     standstill; appends to `failed` what is outside its bound."""
     if rep.get("standstill"):
         d_m, d_deg = rep["standstill_drift_m"], rep["standstill_rotation_drift_deg"]
-        ok = d_m <= a.max_drift and d_deg <= a.max_drift_deg
+        ok = verdict(d_m <= a.max_drift and d_deg <= a.max_drift_deg, failed, "drift standing still")
         print(f"standing still        : the truth moves {rep['truth_net_travel_m'] * 1000:.1f} mm from its start; "
               f"the estimate drifts {d_m * 1000:.2f} mm, {d_deg:.3f} deg from its first pose "
-              f"(bounds {a.max_drift * 1000:.0f} mm, {a.max_drift_deg:g} deg: {'PASS' if ok else 'FAIL'})")
+              f"(bounds {a.max_drift * 1000:.0f} mm, {a.max_drift_deg:g} deg: {ok})")
         print(f"ATE (rigid alignment) : RMSE {rep['ate_rmse_m'] * 100:.2f} cm, max {rep['ate_max_m'] * 100:.2f} cm "
               f"(not scored standing still: no distance to relate it to)")
-        if not ok:
-            failed.append("drift standing still")
         return
     frac = rep["ate_fraction_of_distance"]
-    ok = frac <= a.max_ate_fraction
+    ok = verdict(frac <= a.max_ate_fraction, failed, "ATE")
     print(f"ATE (rigid alignment) : RMSE {rep['ate_rmse_m'] * 100:.2f} cm, max {rep['ate_max_m'] * 100:.2f} cm "
           f"over {rep['distance_travelled_m']:.2f} m travelled = {frac * 100:.2f} % "
-          f"(bound {a.max_ate_fraction * 100:.1f} %: {'PASS' if ok else 'FAIL'})")
-    if not ok:
-        failed.append("ATE")
+          f"(bound {a.max_ate_fraction * 100:.1f} %: {ok})")
 
 
 def print_frame_rate(stereo_hz, timings):
@@ -207,12 +210,10 @@ def main():
     if "map_rms_to_surface_m" in rep or "map_rms_to_sphere_m" in rep:
         rms = rep.get("map_rms_to_surface_m", rep.get("map_rms_to_sphere_m"))
         med = rep.get("map_median_abs_to_surface_m", rep.get("map_median_abs_to_sphere_m"))
-        ok = rms <= a.max_map_rms
+        ok = verdict(rms <= a.max_map_rms, failed, "map error")
         print(f"map error             : {rep['map_points']} points, RMS to the true surface "
               f"({rep.get('scene', 'sphere')}) {rms * 1000:.2f} mm, median |d| {med * 1000:.2f} mm "
-              f"(bound {a.max_map_rms * 1000:.0f} mm: {'PASS' if ok else 'FAIL'})")
-        if not ok:
-            failed.append("map error")
+              f"(bound {a.max_map_rms * 1000:.0f} mm: {ok})")
     elif rep.get("map_points", 0) == 0:
         missing.append("map error (no map received)")  # an empty map, known scene or not
     elif a.map_error == "if-known":
