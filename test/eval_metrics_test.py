@@ -296,7 +296,8 @@ class StandstillTest(unittest.TestCase):
                     ate_fraction_of_distance=None)
         self.assertEqual(evaluate_run.failed_checks(good, RunVerdictTest.BOUNDS), {})
         for worse in ({"standstill_drift_m": 0.02}, {"standstill_rotation_drift_deg": 2.0}):
-            self.assertIn("standing still", evaluate_run.failed_checks(dict(good, **worse), RunVerdictTest.BOUNDS)["ate"])
+            failed = evaluate_run.failed_checks(dict(good, **worse), RunVerdictTest.BOUNDS)
+            self.assertIn("standing still", failed["ate"])
 
 
 class RunVerdictTest(unittest.TestCase):
