@@ -20,8 +20,9 @@ simulator's ground truth (docs/ACCURACY.md records the figures):
 --recording: an ASL/EuRoC recording (the folder holding mav0/, or mav0)
 instead of the scenarios, converted to a bag as the main job does
 (scripts/run_dataset.sh --convert-only: asl_to_bag, the same stereo rate
-rule and cache key, the cache in --data), then the same offline path and
-table; its scenario name is the recording's folder name.
+rule and cache key; the cache in --data, by default the main job's), then
+the same offline path and table; its scenario name is the recording's
+folder name.
 
 Needs a built workspace's environment (source devel/setup.bash). The front end
 runs with config/frontend.yaml's values except where FRONTEND_BY_SCENE says
@@ -98,10 +99,11 @@ def stream_for(scene, traj, seed, duration, data, log):
 
 def recording_stream(folder, rate_divisor, data, log):
     """The landmark stream of an ASL/EuRoC recording: converted to a bag by
-    scripts/run_dataset.sh --convert-only (its cache and key, in data)."""
+    scripts/run_dataset.sh --convert-only (its key; in data, or without data
+    in its own cache), the stream cached next to the bag."""
     bag = recording.convert(folder, rate_divisor, data, log)
-    return recording.name(bag), bag, landmark_stream(bag, os.path.splitext(os.path.basename(bag))[0], [], data,
-                                                        log)
+    stem = os.path.splitext(os.path.basename(bag))[0]
+    return recording.name(bag), bag, landmark_stream(bag, stem, [], os.path.dirname(bag), log)
 
 
 def time_offset(bag):
@@ -273,8 +275,8 @@ def parse_args(argv):
     ap.add_argument("--seeds", type=int, default=1, help="seeds 1..N per scenario")
     ap.add_argument("--nees-seeds", type=int, default=0, help="ANEES over seeds 1..N (one scenario, one model)")
     ap.add_argument("--duration", type=float, default=30.0)
-    ap.add_argument("--data", default=os.path.join(REPO, ".data", "sim"),
-                    help="cache of the generated or converted bags and their landmark streams")
+    ap.add_argument("--data", help="cache of the generated or converted bags and their landmark streams "
+                                   "(default: .data/sim; with --recording scripts/run_dataset.sh's cache)")
     ap.add_argument("--out", default="/tmp/hapi_accuracy")
     ap.add_argument("--markdown")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
@@ -284,7 +286,10 @@ def parse_args(argv):
 
 def main(argv=None):
     a = parse_args(argv)
-    os.makedirs(a.data, exist_ok=True)
+    if a.data is None and not a.recording:
+        a.data = os.path.join(REPO, ".data", "sim")
+    if a.data:
+        os.makedirs(a.data, exist_ok=True)
     os.makedirs(a.out, exist_ok=True)
     log = os.path.join(a.out, "accuracy.log")
     models = a.models.split(",")

@@ -22,8 +22,11 @@ def sourced_workspace():
 
 def convert(folder, rate_divisor, cache, log):
     """The bag of the recording in `folder` (holding mav0/, or mav0 itself),
-    converted on first use into `cache`; rate_divisor: "auto" or N."""
-    env = dict(os.environ, HAPI_DATASET_CACHE=os.path.abspath(cache))
+    converted on first use into `cache` (None: run_dataset.sh's own cache,
+    <ws>/dataset_cache, shared with the main job); rate_divisor: "auto" or N."""
+    env = dict(os.environ)
+    if cache:
+        env["HAPI_DATASET_CACHE"] = os.path.abspath(cache)
     ws = sourced_workspace()
     if ws:
         env["HAPI_WS"] = ws
