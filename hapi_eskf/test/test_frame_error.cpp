@@ -48,11 +48,11 @@ Eigen::MatrixXd modelLayout(const Eigen::MatrixXd& C, int model_dim, int filter_
 TEST(FrameErrorBlock, UpdateEqualsTheJointUpdateWithTheSharedNoise) {
   std::mt19937 rng(5);
   EskfSettings s = testing_settings::basicFilter();
-  s.motion_model = MotionModelKind::kGyro;  // a model with the frame error (camera pose block, 12)
+  s.motion_model = MotionModelKind::kGyro;  // a model with the frame error (pose block 15)
   s.frame_rotation_sigma = 0.02;
   s.frame_optical_axis_sigma = 0.03;
   s.frame_translation_sigma = 0.01;
-  const int P = kCameraMotionDim, K = 5;
+  const int P = kGyroDim, K = 5;
   FrameErrorBlock fe(P, s);
   ASSERT_TRUE(fe.enabled());
   ASSERT_EQ(fe.filterDim(), P + kFrameErrorDim);

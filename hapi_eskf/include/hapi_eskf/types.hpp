@@ -22,16 +22,19 @@ using Mat9 = Eigen::Matrix<double, 9, 9>;
 // Error-state layout (docs/DESIGN.md "State and error state"): a pose block
 // of the motion model's size, then 3 rows per landmark. Every model starts
 // its block with [dp, dtheta], the only pose columns a measurement touches.
-//  * constant_velocity and gyro (camera state): [dp, dtheta, dv, dw], 12;
+//  * constant_velocity (camera state): [dp, dtheta, dv, dw], 12;
+//  * gyro (camera state and the gyro's bias): [dp, dtheta, dv, dw, dbg], 15;
 //  * inertial (IMU body state): [dp, dtheta, dv, dbg, dba, dg], 18.
 // A modelled frame-shared vision error adds 6 spare rows after them
 // (frame_error_block.hpp): at most 18 + 6.
 constexpr int kCameraMotionDim = 12;
+constexpr int kGyroDim = 15;
 constexpr int kInertialDim = 18;
 constexpr int kFrameErrorDim = 6;
 constexpr int kMaxPoseDim = kInertialDim + kFrameErrorDim;
 constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;    // camera state
 constexpr int kIdxBg = 9, kIdxBa = 12, kIdxG = 15;               // inertial state
+constexpr int kIdxGyroBias = 12;                                  // gyro model's bias
 inline int landmarkRow(int slot, int pose_dim) { return pose_dim + 3 * slot; }
 inline int stateDim(int n_landmarks, int pose_dim) { return pose_dim + 3 * n_landmarks; }
 

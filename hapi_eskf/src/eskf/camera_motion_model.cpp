@@ -1,9 +1,6 @@
-// The camera-state motion models, constant_velocity and gyro (motion_model.hpp,
-// docs/DESIGN.md "Predict" and "Gyro prediction"): the thesis's 12-row pose
-// block [dp, dtheta, dv, dw] of the left camera, stepped by the functions of
-// backend/pose_kinematics.hpp. The gyro model rotates each sample into the camera frame
-// with the extrinsic's rotation (the lever arm does not change an angular
-// rate) and lets it replace w for the step.
+// The constant-velocity motion model (motion_model.hpp, docs/DESIGN.md
+// "Predict"): the thesis's 12-row pose block [dp, dtheta, dv, dw] of the left
+// camera, stepped by the functions of backend/pose_kinematics.hpp.
 #include "hapi_eskf/backend/pose_kinematics.hpp"
 #include "hapi_eskf/eskf/motion_model.hpp"
 #include "motion_models.hpp"
@@ -12,32 +9,13 @@
 namespace hapi_eskf {
 namespace {
 
-PoseState toPose(const NominalState& x) {
-  PoseState p;
-  p.p = x.p;
-  p.q = x.q;
-  p.v = x.v;
-  p.w = x.w;
-  return p;
-}
-
-void fromPose(const PoseState& p, NominalState* x) {
-  x->p = p.p;
-  x->q = p.q;
-  x->v = p.v;
-  x->w = p.w;
-}
-
-class CameraMotionModel final : public MotionModel {
+class ConstantVelocityMotionModel final : public MotionModel {
  public:
-  CameraMotionModel(const EskfSettings& s, const CameraExtrinsic& e, bool use_gyro)
-      : MotionModel(e), s_(s), use_gyro_(use_gyro) {}
+  ConstantVelocityMotionModel(const EskfSettings& s, const CameraExtrinsic& e) : MotionModel(e), s_(s) {}
 
-  MotionModelKind kind() const override {
-    return use_gyro_ ? MotionModelKind::kGyro : MotionModelKind::kConstantVelocity;
-  }
+  MotionModelKind kind() const override { return MotionModelKind::kConstantVelocity; }
   int poseDim() const override { return kCameraMotionDim; }
-  bool usesImu() const override { return use_gyro_; }
+  bool usesImu() const override { return false; }
 
   NominalState fromCamera(const PoseState& camera) const override {
     NominalState x;
@@ -46,12 +24,7 @@ class CameraMotionModel final : public MotionModel {
   }
 
   PoseMat initialCovariance() const override {
-    PoseMat C = PoseMat::Zero(kCameraMotionDim, kCameraMotionDim);
-    C.diagonal().segment<3>(kIdxP).setConstant(s_.initial_sigma_position * s_.initial_sigma_position);
-    C.diagonal().segment<3>(kIdxTheta).setConstant(s_.initial_sigma_orientation * s_.initial_sigma_orientation);
-    C.diagonal().segment<3>(kIdxV).setConstant(s_.initial_sigma_velocity * s_.initial_sigma_velocity);
-    C.diagonal().segment<3>(kIdxW).setConstant(s_.initial_sigma_angular_velocity * s_.initial_sigma_angular_velocity);
-    return C;
+    return cameraStateInitialCovariance(s_, kCameraMotionDim);
   }
 
   PoseState camera(const NominalState& x) const override { return toPose(x); }
@@ -72,22 +45,12 @@ class CameraMotionModel final : public MotionModel {
     x->v += x->q.conjugate() * dp_world / dt;
   }
 
-  void step(const NominalState& x, double dt, const ImuSample* imu, NominalState* next, PoseMat* F,
+  void step(const NominalState& x, double dt, const ImuSample*, NominalState* next, PoseMat* F,
             PoseMat* Q) const override {
     *next = x;
-    PoseState y;
-    if (use_gyro_ && imu != nullptr) {
-      Mat12 F12, Q12;
-      gyroStep(toPose(x), extrinsic_.R_imu_cam.transpose() * imu->gyro, s_.gyroProcessNoiseDensity(), dt, s_, &y, &F12,
-               &Q12);
-      *F = F12;
-      *Q = Q12;
-    } else {
-      y = predictPose(toPose(x), dt, s_);
-      *F = predictJacobian(toPose(x), dt, s_);
-      *Q = processNoise(dt, s_);
-    }
-    fromPose(y, next);
+    fromPose(predictPose(toPose(x), dt, s_), next);
+    *F = predictJacobian(toPose(x), dt, s_);
+    *Q = processNoise(dt, s_);
   }
 
   void inject(NominalState* x, const Eigen::Ref<const Eigen::VectorXd>& dx) const override {
@@ -107,13 +70,12 @@ class CameraMotionModel final : public MotionModel {
 
  private:
   EskfSettings s_;
-  bool use_gyro_;
 };
 
 }  // namespace
 
-std::unique_ptr<MotionModel> makeCameraMotionModel(const EskfSettings& s, const CameraExtrinsic& e, bool use_gyro) {
-  return std::make_unique<CameraMotionModel>(s, e, use_gyro);
+std::unique_ptr<MotionModel> makeConstantVelocityMotionModel(const EskfSettings& s, const CameraExtrinsic& e) {
+  return std::make_unique<ConstantVelocityMotionModel>(s, e);
 }
 
 }  // namespace hapi_eskf

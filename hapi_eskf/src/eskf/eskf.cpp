@@ -186,7 +186,7 @@ Status Eskf::align() {
   for (const ImuSample& m : alignment_samples_) scene_motion_.addImu(m, state_.b_g);
   alignment_samples_.clear();
   awaiting_alignment_ = false;
-  velocity_measured_ = start.window.still;  // zero, measured by the still window
+  velocity_measured_ = start.still;  // zero, measured by the still window
   return Status::kOk;
 }
 

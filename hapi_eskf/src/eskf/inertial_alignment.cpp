@@ -13,8 +13,8 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
   for (const ImuSample& m : window)
     if (!m.gyro.allFinite() || !m.accel.allFinite() || !std::isfinite(m.stamp)) return Status::kNonFinite;
   InertialStart r;
-  r.window = imuWindowStats(window.begin(), window.end(), Vec3::Zero(), s.static_gyro_threshold,
-                            s.static_accel_threshold, s);
+  r.window = imuWindowStats(window.begin(), window.end(), Vec3::Zero());
+  r.still = stillStart(r.window, s);
   const Vec3 w_mean = r.window.gyro_mean, f_mean = r.window.accel_mean;
   // Below a quarter of g no direction is trustworthy.
   if (!(f_mean.norm() > 0.25 * s.gravity_magnitude)) return Status::kEmptyInput;
@@ -32,22 +32,36 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
   r.x.has_imu = true;
   r.C = model.initialCovariance();
   const double span = window.back().stamp - window.front().stamp;
-  if (!r.window.still) {
+  if (!r.still) {
     // Moving: the mean specific force is gravity plus the mean acceleration
     // over the window, which the spread bounds; the gravity direction is
     // that uncertain (fast turns: metres per second squared, tens of degrees).
     const double sigma_g = std::max(s.initial_sigma_gravity, r.window.accel_spread);
     r.C.block<3, 3>(kIdxG, kIdxG) = Mat3::Identity() * sigma_g * sigma_g;
   }
-  if (r.window.still) {
+  if (r.still) {
     r.x.b_g = w_mean;
-    // Standard error of the mean of white noise of density n over the span.
-    const double sigma_bg = s.gyro_noise_density / std::sqrt(std::max(span, 1e-3));
+    // Standard error of the mean: of white noise of density n over the span,
+    // or of the samples' own spread (vibration, in-situ noise above the
+    // datasheet's), whichever is larger.
+    const double sigma_bg =
+        std::max(s.gyro_noise_density / std::sqrt(std::max(span, 1e-3)),
+                 r.window.gyro_spread / std::sqrt(3.0 * r.window.samples));
     r.C.block<3, 3>(kIdxBg, kIdxBg) = Mat3::Identity() * sigma_bg * sigma_bg;
     r.C.block<3, 3>(kIdxV, kIdxV) = Mat3::Identity() * s.static_sigma_velocity * s.static_sigma_velocity;
   }
   *out = r;
   return Status::kOk;
+}
+
+bool stillStart(const ImuWindowStats& w, const EskfSettings& s) {
+  return w.samples >= 2 && w.velocity_rms < s.static_sigma_velocity && w.gyro_mean.norm() < s.static_gyro_threshold &&
+         std::abs(w.accel_mean.norm() - s.gravity_magnitude) < s.static_accel_threshold;
+}
+
+bool heldStill(const ImuWindowStats& w, const EskfSettings& s) {
+  return w.samples >= 2 && w.gyro_rms < s.held_gyro_threshold && w.accel_spread < s.held_accel_threshold &&
+         std::abs(w.accel_mean.norm() - s.gravity_magnitude) < s.held_accel_threshold;
 }
 
 }  // namespace hapi_eskf

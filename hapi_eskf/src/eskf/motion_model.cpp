@@ -10,14 +10,24 @@ std::unique_ptr<MotionModel> makeMotionModel(const EskfSettings& s, const Camera
     case MotionModelKind::kInertial:
       return makeInertialMotionModel(s, extrinsic);
     case MotionModelKind::kGyro:
-      return makeCameraMotionModel(s, extrinsic, true);
+      return makeGyroMotionModel(s, extrinsic);
     case MotionModelKind::kConstantVelocity:
       break;
   }
-  return makeCameraMotionModel(s, extrinsic, false);
+  return makeConstantVelocityMotionModel(s, extrinsic);
 }
 
-int poseDim(MotionModelKind kind) { return kind == MotionModelKind::kInertial ? kInertialDim : kCameraMotionDim; }
+int poseDim(MotionModelKind kind) {
+  switch (kind) {
+    case MotionModelKind::kInertial:
+      return kInertialDim;
+    case MotionModelKind::kGyro:
+      return kGyroDim;
+    case MotionModelKind::kConstantVelocity:
+      break;
+  }
+  return kCameraMotionDim;
+}
 
 Mat12 cameraCovariance(const MotionModel& model, const NominalState& x, const PoseMat& C) {
   const Eigen::Matrix<double, 12, Eigen::Dynamic> T = model.cameraStateJacobian(x);

@@ -14,9 +14,7 @@ void SceneMotionMonitor::addImu(const ImuSample& m, const Vec3& gyro_bias) {
 SceneMotionVerdict SceneMotionMonitor::onFrame(int fit_inliers, int inliers_gated_out) const {
   SceneMotionVerdict v;
   if (!(s_.disagreement_fraction < 1.0) || fit_inliers <= 0) return v;
-  v.device_still = imuWindowStats(recent_.begin(), recent_.end(), gyro_bias_, s_.held_gyro_threshold,
-                                  s_.held_accel_threshold, s_)
-                       .still;
+  v.device_still = heldStill(imuWindowStats(recent_.begin(), recent_.end(), gyro_bias_), s_);
   v.disagreed = inliers_gated_out > s_.disagreement_fraction * fit_inliers;
   return v;
 }

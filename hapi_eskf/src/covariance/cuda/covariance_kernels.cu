@@ -292,7 +292,9 @@ cudaError_t launchPredict(T* C, std::size_t ld, int n, int pose_dim, const doubl
                           cudaStream_t stream) {
   // The pose block sizes of the motion models (types.hpp), unrolled each.
   if (pose_dim == 12) return launchPredictP<T, 12>(C, ld, n, F, Q, stream);
+  if (pose_dim == 15) return launchPredictP<T, 15>(C, ld, n, F, Q, stream);
   if (pose_dim == 18) return launchPredictP<T, 18>(C, ld, n, F, Q, stream);
+  if (pose_dim == 21) return launchPredictP<T, 21>(C, ld, n, F, Q, stream);
   if (pose_dim == 24) return launchPredictP<T, 24>(C, ld, n, F, Q, stream);
   return cudaErrorInvalidValue;
 }
