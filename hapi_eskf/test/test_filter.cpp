@@ -454,7 +454,7 @@ TEST(Eskf, PredictEntryPoints) {
   s.angular_velocity_damping = 0.5;
   s.motion_model = MotionModelKind::kGyro;  // without a sample it is the constant-velocity step
   s.gyro_noise_density = 0.01;
-  Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, kGyroDim));
   PoseState x0;
   x0.v = Vec3(0.3, 0, 1);
   x0.w = Vec3(0.1, 0.2, 0);
@@ -473,17 +473,21 @@ TEST(Eskf, PredictEntryPoints) {
   C0.diagonal().segment<3>(6).setConstant(s.initial_sigma_velocity * s.initial_sigma_velocity);
   C0.diagonal().segment<3>(9).setConstant(s.initial_sigma_angular_velocity * s.initial_sigma_angular_velocity);
   const Mat12 expect = F * C0 * F.transpose() + processNoise(0.5, s);
-  EXPECT_LT((f.poseCovariance() - expect).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((f.poseCovariance().topLeftCorner<12, 12>() - expect).cwiseAbs().maxCoeff(), 1e-15);
 
-  // Gyro: w is replaced by the measurement, its variance by sigma^2/dt (then
-  // damped), sigma the inflated density (settings.hpp gyroProcessNoiseDensity).
+  // Gyro: w is replaced by the measurement less the bias, its variance by
+  // sigma^2/dt plus the bias's (then damped), sigma the inflated density
+  // (settings.hpp gyroProcessNoiseDensity); the camera is the IMU here.
   const Vec3 gyro(0.0, -0.3, 0.05);
   ASSERT_EQ(f.addImu(ImuSample{1.6, gyro, Vec3::Zero()}), Status::kOk);
   const double lam = std::pow(0.5, 0.1);
   EXPECT_LT((f.pose().w - lam * gyro).norm(), 1e-15);
-  const Mat12 C = f.poseCovariance();
+  const PoseMat C = f.poseCovariance();
+  // The bias as the step began: its prior and 0.5 s of random walk.
   const double sg = 0.01 * s.gyro_noise_inflation;
-  EXPECT_NEAR(C(kIdxW, kIdxW), lam * lam * sg * sg / 0.1 + processNoise(0.1, s)(kIdxW, kIdxW), 1e-14);
+  const double vb = s.initial_sigma_gyro_bias * s.initial_sigma_gyro_bias + s.gyro_random_walk * s.gyro_random_walk * 0.5;
+  EXPECT_NEAR(C(kIdxW, kIdxW), lam * lam * (sg * sg / 0.1 + vb) + processNoise(0.1, s)(kIdxW, kIdxW), 1e-14);
+  EXPECT_NEAR(C(kIdxW, kIdxGyroBias), -lam * vb, 1e-14);  // the rate's error is the bias's
   EXPECT_NEAR(C(kIdxW, kIdxV), 0.0, 1e-18);  // the old w's correlations are gone
 }
 

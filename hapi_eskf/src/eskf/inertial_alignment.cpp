@@ -31,7 +31,6 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
   r.x.f = window.back().accel;
   r.x.has_imu = true;
   r.C = model.initialCovariance();
-  const double span = window.back().stamp - window.front().stamp;
   if (!r.still) {
     // Moving: the mean specific force is gravity plus the mean acceleration
     // over the window, which the spread bounds; the gravity direction is
@@ -41,12 +40,13 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
   }
   if (r.still) {
     r.x.b_g = w_mean;
-    // Standard error of the mean: of white noise of density n over the span,
-    // or of the samples' own spread (vibration, in-situ noise above the
-    // datasheet's), whichever is larger.
-    const double sigma_bg =
-        std::max(s.gyro_noise_density / std::sqrt(std::max(span, 1e-3)),
-                 r.window.gyro_spread / std::sqrt(3.0 * r.window.samples));
+    // The mean's uncertainty, the larger of: the standard error of white
+    // noise of density n over the span; the spread of the block means (slow
+    // rotation left in the window, in-situ noise above the datasheet's; a
+    // slow turn's mean over a fraction of its period is off by about that
+    // much, so it is no standard error: not divided by sqrt(blocks)).
+    const double span = window.back().stamp - window.front().stamp;
+    const double sigma_bg = std::max(s.gyro_noise_density / std::sqrt(std::max(span, 1e-3)), r.window.gyro_block_spread);
     r.C.block<3, 3>(kIdxBg, kIdxBg) = Mat3::Identity() * sigma_bg * sigma_bg;
     r.C.block<3, 3>(kIdxV, kIdxV) = Mat3::Identity() * s.static_sigma_velocity * s.static_sigma_velocity;
   }
@@ -55,8 +55,11 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
 }
 
 bool stillStart(const ImuWindowStats& w, const EskfSettings& s) {
+  const Vec3 turn_slope = -w.gyro_mean.cross(w.accel_mean);
+  const bool fits_a_turn_better = turn_slope.norm() > 2.0 * w.accel_slope_sigma &&
+                                  (w.accel_slope - turn_slope).norm() < w.accel_slope.norm();
   return w.samples >= 2 && w.velocity_rms < s.static_sigma_velocity && w.gyro_mean.norm() < s.static_gyro_threshold &&
-         std::abs(w.accel_mean.norm() - s.gravity_magnitude) < s.static_accel_threshold;
+         !fits_a_turn_better && std::abs(w.accel_mean.norm() - s.gravity_magnitude) < s.static_accel_threshold;
 }
 
 bool heldStill(const ImuWindowStats& w, const EskfSettings& s) {

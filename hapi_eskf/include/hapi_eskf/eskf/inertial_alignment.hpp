@@ -38,14 +38,23 @@ namespace hapi_eskf {
 //  * heldStill (scene motion): is a hand holding the device still? The
 //    gyro's RMS about the filter's bias and the raw accelerometer spread,
 //    loose enough for tremor (held_*_threshold).
+constexpr int kStillBlocks = 3;
 struct ImuWindowStats {
   Vec3 gyro_mean = Vec3::Zero(), accel_mean = Vec3::Zero();
   double gyro_rms = 0.0;      // about the given bias [rad/s]
-  double gyro_spread = 0.0;   // RMS deviation from the mean, all axes [rad/s]
+  // RMS deviation of the means of kStillBlocks consecutive blocks from the
+  // window's mean, all axes [rad/s]: the slow part of the rate (a hand's
+  // sway); vibration averages out within a block.
+  double gyro_block_spread = 0.0;
   double accel_spread = 0.0;  // RMS deviation from the mean, all axes [m/s^2]
   // RMS deviation of v(t) = integral of (f - mean f) dt from its own mean:
   // how much the velocity changed within the window [m/s].
   double velocity_rms = 0.0;
+  // Least-squares rate of change of the specific force over the window
+  // [m/s^3]: a turn at rate w rotates gravity in the body frame,
+  // df/dt = -w x f; a gyro bias does not.
+  Vec3 accel_slope = Vec3::Zero();
+  double accel_slope_sigma = 0.0;  // its standard error per axis, from the spread [m/s^3]
   int samples = 0;
 };
 template <typename Iterator>
@@ -53,10 +62,14 @@ ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bia
 
 // At rest (docs/DESIGN.md "Inertial initialisation"): the velocity changed
 // by less than the zero velocity's own sigma (static_sigma_velocity), the
-// mean rate is no larger than a turn-on bias can be (static_gyro_threshold:
-// a steady turn integrates to no velocity change, so only its size tells it
-// from a bias), and the mean specific force is within static_accel_threshold
-// of gravity (no steady acceleration along it).
+// mean rate is no larger than a turn-on bias can be (static_gyro_threshold),
+// the specific force's change over the window does not fit a turn at the
+// mean rate better than a bias (no change) where the two differ by more
+// than twice the change's standard error (-w x f: a steady turn moves no
+// velocity, but it rotates gravity in the body frame; a turn about gravity
+// itself, or one that vibration hides, cannot be told from a bias and is
+// taken for one), and the mean specific force is within
+// static_accel_threshold of gravity (no steady acceleration along it).
 bool stillStart(const ImuWindowStats& w, const EskfSettings& s);
 // Held by a hand: the gyro's RMS about the bias below held_gyro_threshold,
 // the accelerometer's spread and |mean f| - g below held_accel_threshold.
@@ -92,21 +105,40 @@ ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bia
   r.accel_mean /= n;
   // Spreads, and the velocity change integrated with each sample held over
   // the interval before it (the first sample opens the window).
-  double f2 = 0.0, g2 = 0.0;
+  double f2 = 0.0;
   Vec3 v = Vec3::Zero(), v_sum = Vec3::Zero();
-  double v2 = 0.0, prev = begin->stamp;
-  for (Iterator it = begin; it != end; ++it) {
+  double v2 = 0.0, prev = begin->stamp, t_mean = 0.0;
+  for (Iterator it = begin; it != end; ++it) t_mean += it->stamp / n;
+  Vec3 tf = Vec3::Zero();
+  double tt = 0.0;
+  Vec3 block[kStillBlocks] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  double block_n[kStillBlocks] = {0.0, 0.0, 0.0}, i = 0.0;
+  for (Iterator it = begin; it != end; ++it, i += 1.0) {
+    const int b = std::min(kStillBlocks - 1, static_cast<int>(i * kStillBlocks / n));
+    block[b] += it->gyro;
+    block_n[b] += 1.0;
     f2 += (it->accel - r.accel_mean).squaredNorm();
-    g2 += (it->gyro - r.gyro_mean).squaredNorm();
+    tf += (it->stamp - t_mean) * (it->accel - r.accel_mean);
+    tt += (it->stamp - t_mean) * (it->stamp - t_mean);
     v += (it->accel - r.accel_mean) * (it->stamp - prev);
     prev = it->stamp;
     v_sum += v;
     v2 += v.squaredNorm();
   }
   r.gyro_rms = std::sqrt(w2 / n);
-  r.gyro_spread = std::sqrt(g2 / n);
+  double g2 = 0.0, blocks = 0.0;
+  for (int b = 0; b < kStillBlocks; ++b)
+    if (block_n[b] > 0.0) {
+      g2 += (block[b] / block_n[b] - r.gyro_mean).squaredNorm();
+      blocks += 1.0;
+    }
+  r.gyro_block_spread = std::sqrt(g2 / blocks);
   r.accel_spread = std::sqrt(f2 / n);
   r.velocity_rms = std::sqrt(std::max(0.0, v2 / n - (v_sum / n).squaredNorm()));
+  if (tt > 0.0) {
+    r.accel_slope = tf / tt;
+    r.accel_slope_sigma = r.accel_spread / std::sqrt(3.0 * tt);
+  }
   return r;
 }
 
