@@ -1,0 +1,89 @@
+// The realism profiles (realism.hpp): the one table of the "real" profile's
+// values and their sources.
+#include "hapi_sim/realism.hpp"
+
+#include <cmath>
+
+namespace hapi_sim {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// The standstill of EuRoC V1_01 (ADIS16448 on the MAV standing on the ground,
+// shared/data/euroc_v1_01_static): per-axis standard deviation at 200 Hz of
+// the readings about their mean. 7-20x the datasheet white noise: platform
+// vibration, with spectral peaks near 17 Hz and 72-79 Hz.
+const Eigen::Vector3d kStandstillGyroStd(0.042, 0.023, 0.017);  // rad/s
+const Eigen::Vector3d kStandstillAccelStd(0.43, 0.58, 0.22);    // m/s^2
+constexpr double kStandstillRateHz = 200.0;
+const double kPeakHz[] = {17.0, 75.0};  // the measured peaks (75: middle of 72-79 Hz)
+// Share of the variance in each peak (assumed: the measured spectrum shows the
+// peaks standing out of a broad floor; half the power in the two lines).
+constexpr double kPeakShare = 0.25;
+
+// In-situ std -> two sinusoids of variance kPeakShare * std^2 each (a sine
+// of amplitude A has variance A^2 / 2) and white noise with the rest,
+// as a density at the measurement rate (std = density * sqrt(rate)).
+void standstillVibration(ImuImperfections* imu) {
+  const double tone = std::sqrt(2.0 * kPeakShare), floor = std::sqrt(1.0 - 2.0 * kPeakShare);
+  for (double f : kPeakHz) imu->tones.push_back({f, tone * kStandstillGyroStd, tone * kStandstillAccelStd});
+  imu->gyro_broadband_density = floor * kStandstillGyroStd / std::sqrt(kStandstillRateHz);
+  imu->accel_broadband_density = floor * kStandstillAccelStd / std::sqrt(kStandstillRateHz);
+}
+
+}  // namespace
+
+bool parseRealism(const std::string& name, Realism* level) {
+  if (name == "ideal") { *level = Realism::Ideal; return true; }
+  if (name == "real") { *level = Realism::Real; return true; }
+  return false;
+}
+
+const char* realismName(Realism level) { return level == Realism::Real ? "real" : "ideal"; }
+
+bool ImuImperfections::any() const {
+  return gyro_turn_on_bound != 0 || accel_turn_on_bound != 0 || gyro_scale_bound != 0 || accel_scale_bound != 0 ||
+         gyro_misalignment_bound != 0 || accel_misalignment_bound != 0 || !tones.empty() ||
+         !gyro_broadband_density.isZero() || !accel_broadband_density.isZero();
+}
+
+RealismProfile RealismProfile::ideal() { return RealismProfile(); }
+
+RealismProfile RealismProfile::real() {
+  RealismProfile p;
+  p.level = Realism::Real;
+  ImuImperfections& imu = p.imu;
+  // Turn-on bias, uniform per axis. Gyro 0.1 rad/s (5.7 deg/s): between the
+  // BMI088's zero-rate offset (+-1 deg/s) and the MPU-6000's initial ZRO
+  // tolerance (+-20 deg/s); it covers the EuRoC standstill's measured
+  // (-0.002, 0.021, 0.078) rad/s. Accelerometer 0.2 m/s^2: the BMI088's
+  // zero-g offset (+-20 mg); the MPU-6000 allows +-50 mg (x, y).
+  imu.gyro_turn_on_bound = 0.1;
+  imu.accel_turn_on_bound = 0.2;
+  // Scale factor error per axis, +-1 %: the ADIS16448's and BMI088's
+  // sensitivity tolerance (+-1 %); the uncalibrated MPU-6000 allows +-3 %.
+  imu.gyro_scale_bound = 0.01;
+  imu.accel_scale_bound = 0.01;
+  // Axis misalignment / cross-axis sensitivity, +-1 deg per term: the
+  // MPU-6000's cross-axis sensitivity +-2 % (1.1 deg); the BMI088 states
+  // +-1 % (0.6 deg) for its gyro; a board-mounted part adds its own tilt.
+  imu.gyro_misalignment_bound = 1.0 * kDeg;
+  imu.accel_misalignment_bound = 1.0 * kDeg;
+  standstillVibration(&imu);
+  // Calibration that the filter is told (the bag's /tf_static and
+  // /calibration): a hand-eye calibration or a CAD extrinsic is typically off
+  // by 1-2 deg and a few mm, an unsynchronised camera-IMU clock by 5-10 ms.
+  p.calibration.rotation_rad = 1.5 * kDeg;
+  p.calibration.translation_m = 0.005;
+  p.calibration.time_offset_s = 0.008;
+  // EuRoC's MT9M034 lenses, radial-tangential
+  // (shared/data/euroc_v1_01_static/mav0/cam{0,1}/sensor.yaml).
+  p.real_lens = true;
+  p.left_lens = {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05, 0.0};
+  p.right_lens = {-0.28368365, 0.07451284, -0.00010473, -3.55590700e-05, 0.0};
+  return p;
+}
+
+RealismProfile RealismProfile::forLevel(Realism level) { return level == Realism::Real ? real() : ideal(); }
+
+}  // namespace hapi_sim
