@@ -13,7 +13,8 @@ simulator's ground truth (docs/ACCURACY.md records the figures):
                                                       NEES, IMU-rate velocity errors
 
     accuracy.py [--scenarios skin:handheld,globe:smooth,...] [--models constant_velocity,gyro,inertial]
-                [--seeds 1] [--duration 30] [--data DIR] [--out DIR] [--markdown FILE] [--set key=value ...]
+                [--seeds 1] [--duration 30] [--realism ideal|real] [--data DIR] [--out DIR] [--markdown FILE]
+                [--set key=value ...]
     accuracy.py --nees-seeds 20 --scenarios skin:handheld --models inertial --duration 10
 
 Needs a built workspace's environment (source devel/setup.bash). The front end
@@ -22,7 +23,9 @@ otherwise (the low-contrast skin needs a lower FAST threshold and a looser
 sub-pixel correlation, docs/ACCURACY.md says why). Stamps: the filter runs on
 the camera clock, the truth is on the IMU clock (the bag's
 /ground_truth/calibration time_offset_s, t_imu = t_cam + offset); estimates
-are moved to the truth's clock before they are compared.
+are moved to the truth's clock before they are compared. --realism real:
+make_sim_bag's real-like profile; the filter gets the bag's believed time
+offset (/calibration) and extrinsic (/tf_static), the evaluation the truth.
 
 A run "diverged" when its ATE exceeds 5 % of the distance travelled, its
 largest error exceeds 0.2 m, or the replay failed.
@@ -60,14 +63,14 @@ def run(cmd, log):
     return p.returncode, p.stdout
 
 
-def stream_for(scene, traj, seed, duration, data, log):
+def stream_for(scene, traj, seed, duration, data, log, realism="ideal"):
     """The landmark stream of a scenario (generated and cached on first use)."""
-    name = f"{scene}_{traj}_s{seed}_{duration:g}s"
+    name = f"{scene}_{traj}_s{seed}_{duration:g}s" + ("" if realism == "ideal" else "_" + realism)
     bag, lm, txt = (os.path.join(data, name + ext) for ext in (".bag", "_landmarks.bag", "_stream.txt"))
     if not os.path.exists(txt):
         if not os.path.exists(bag):
             st, _ = run(["rosrun", "hapi_sim", "make_sim_bag", "--scene", scene, "--trajectory", traj, "--seed",
-                         str(seed), "--duration", str(duration), "--output", bag + ".tmp"], log)
+                         str(seed), "--duration", str(duration), "--realism", realism, "--output", bag + ".tmp"], log)
             if st != 0:
                 raise RuntimeError(f"make_sim_bag failed for {name} (see {log})")
             os.replace(bag + ".tmp", bag)
@@ -81,13 +84,14 @@ def stream_for(scene, traj, seed, duration, data, log):
     return name, bag, txt
 
 
-def time_offset(bag):
-    """t_imu = t_cam + offset, from the bag's /ground_truth/calibration (0 without)."""
+def time_offset(bag, topic="/ground_truth/calibration"):
+    """t_imu = t_cam + offset, from the bag's calibration topic (None without): /ground_truth/calibration
+    the truth, /calibration (make_sim_bag --realism real) what the filter is told."""
     import rosbag
     with rosbag.Bag(bag) as b:
-        for _, msg, _ in b.read_messages(topics=["/ground_truth/calibration"]):
+        for _, msg, _ in b.read_messages(topics=[topic]):
             return float(yaml.safe_load(msg.data).get("time_offset_s", 0.0))
-    return 0.0
+    return None
 
 
 def read_stream_truth(txt):
@@ -232,6 +236,8 @@ def main(argv=None):
     ap.add_argument("--seeds", type=int, default=1, help="seeds 1..N per scenario")
     ap.add_argument("--nees-seeds", type=int, default=0, help="ANEES over seeds 1..N (one scenario, one model)")
     ap.add_argument("--duration", type=float, default=30.0)
+    ap.add_argument("--realism", choices=("ideal", "real"), default="ideal",
+                    help="make_sim_bag's sensor/calibration profile (real: the filter is told a wrong calibration)")
     ap.add_argument("--data", default=os.path.join(REPO, ".data", "sim"))
     ap.add_argument("--out", default="/tmp/hapi_accuracy")
     ap.add_argument("--markdown")
@@ -246,12 +252,14 @@ def main(argv=None):
     for sc in a.scenarios.split(","):
         scene, traj = sc.split(":")
         for seed in seeds:
-            name, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log)
-            offset = time_offset(bag)
+            name, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log, a.realism)
+            offset = time_offset(bag) or 0.0
+            told = time_offset(bag, "/calibration")
+            told = offset if told is None else told
             truth, truth_twist, lm_per_frame = read_stream_truth(txt)
             for model in a.models.split(","):
                 prefix = os.path.join(a.out, f"{name}_{model}")
-                status, events = replay(txt, model, offset, prefix, log, a.set)
+                status, events = replay(txt, model, told, prefix, log, a.set)
                 rep, series = evaluate(prefix, model, offset, truth, truth_twist) if status == 0 else (None, None)
                 r = {"scenario": f"{scene}/{traj}" + (f" s{seed}" if len(seeds) > 1 else ""), "model": model,
                      "seed": seed, "landmarks_per_frame": lm_per_frame, "metrics": rep, "events": events,
@@ -259,7 +267,7 @@ def main(argv=None):
                 results.append(r)
                 print(table([r]).splitlines()[2], flush=True)
     text = table(results)
-    report = {"command": " ".join(sys.argv), "duration_s": a.duration,
+    report = {"command": " ".join(sys.argv), "duration_s": a.duration, "realism": a.realism,
               "runs": [{k: v for k, v in r.items() if k != "series"} for r in results]}
     if a.nees_seeds:
         report["anees"] = run_analysis.to_plain(anees(results))
