@@ -53,20 +53,24 @@ RealismProfile RealismProfile::real() {
   RealismProfile p;
   p.level = Realism::Real;
   ImuImperfections& imu = p.imu;
-  // Turn-on bias, uniform per axis. Gyro 0.1 rad/s (5.7 deg/s): between the
-  // BMI088's zero-rate offset (+-1 deg/s) and the MPU-6000's initial ZRO
-  // tolerance (+-20 deg/s); it covers the EuRoC standstill's measured
-  // (-0.002, 0.021, 0.078) rad/s. Accelerometer 0.2 m/s^2: the BMI088's
-  // zero-g offset (+-20 mg); the MPU-6000 allows +-50 mg (x, y).
+  // Turn-on bias, uniform per axis. Gyro 0.1 rad/s (5.7 deg/s): below the
+  // uncalibrated MPU-6000's initial ZRO tolerance of +-20 deg/s (InvenSense
+  // PS-MPU-6000A-00 rev. 3.4, table 6.1), above a factory-calibrated part's
+  // ~1 deg/s (BMI088 class); it covers the EuRoC standstill's measured
+  // (-0.002, 0.021, 0.078) rad/s. Accelerometer 0.2 m/s^2 (20 mg): the MPU-6000
+  // allows +-50 mg (x, y) and +-80 mg (z) zero-g tolerance (table 6.2), a
+  // calibrated part ~20 mg (BMI088 class).
   imu.gyro_turn_on_bound = 0.1;
   imu.accel_turn_on_bound = 0.2;
-  // Scale factor error per axis, +-1 %: the ADIS16448's and BMI088's
-  // sensitivity tolerance (+-1 %); the uncalibrated MPU-6000 allows +-3 %.
+  // Scale factor error per axis, +-1 %: a factory-calibrated part's
+  // sensitivity tolerance (ADIS16448 / BMI088 class); the uncalibrated
+  // MPU-6000 allows +-3 % (gyro scale factor tolerance, table 6.1;
+  // accelerometer initial calibration tolerance, table 6.2).
   imu.gyro_scale_bound = 0.01;
   imu.accel_scale_bound = 0.01;
-  // Axis misalignment / cross-axis sensitivity, +-1 deg per term: the
-  // MPU-6000's cross-axis sensitivity +-2 % (1.1 deg); the BMI088 states
-  // +-1 % (0.6 deg) for its gyro; a board-mounted part adds its own tilt.
+  // Axis misalignment, +-1 deg per cross-axis term: the MPU-6000's
+  // cross-axis sensitivity of +-2 % (1.1 deg; tables 6.1 and 6.2); a
+  // board-mounted part adds its own tilt.
   imu.gyro_misalignment_bound = 1.0 * kDeg;
   imu.accel_misalignment_bound = 1.0 * kDeg;
   standstillVibration(&imu);
