@@ -84,14 +84,14 @@ def stream_for(scene, traj, seed, duration, data, log, realism="ideal"):
     return name, bag, txt
 
 
-def time_offset(bag, topic="/ground_truth/calibration"):
-    """t_imu = t_cam + offset, from the bag's calibration topic (None without): /ground_truth/calibration
+def time_offset(bag, topic="/ground_truth/calibration", default=0.0):
+    """t_imu = t_cam + offset, from the bag's calibration topic (default without): /ground_truth/calibration
     the truth, /calibration (make_sim_bag --realism real) what the filter is told."""
     import rosbag
     with rosbag.Bag(bag) as b:
         for _, msg, _ in b.read_messages(topics=[topic]):
             return float(yaml.safe_load(msg.data).get("time_offset_s", 0.0))
-    return None
+    return default
 
 
 def read_stream_truth(txt):
@@ -253,9 +253,8 @@ def main(argv=None):
         scene, traj = sc.split(":")
         for seed in seeds:
             name, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log, a.realism)
-            offset = time_offset(bag) or 0.0
-            told = time_offset(bag, "/calibration")
-            told = offset if told is None else told
+            offset = time_offset(bag)
+            told = time_offset(bag, "/calibration", default=offset)
             truth, truth_twist, lm_per_frame = read_stream_truth(txt)
             for model in a.models.split(","):
                 prefix = os.path.join(a.out, f"{name}_{model}")
