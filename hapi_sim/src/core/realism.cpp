@@ -16,21 +16,31 @@ constexpr double kDeg = M_PI / 180.0;
 const Eigen::Vector3d kStandstillGyroStd(0.042, 0.023, 0.017);  // rad/s
 const Eigen::Vector3d kStandstillAccelStd(0.43, 0.58, 0.22);    // m/s^2
 constexpr double kStandstillRateHz = 200.0;
-const double kPeakHz[] = {17.0, 75.0};  // the measured peaks (75: middle of 72-79 Hz)
-// Share of the variance in each line, on every axis: a simplification. The
-// standstill's 4.75 s (Hann window) hold, per axis gyro x y z / accel x y z,
-// 39 7 10 / 2 24 3 % in 15-19 Hz and 0 9 3 / 19 1 5 % in 70-81 Hz, the rest
-// spread with smaller peaks (19-24 Hz, 90 Hz) that white noise stands for.
-constexpr double kPeakShare = 0.25;
+// The two lines and the share of each axis' variance in them, measured on
+// the standstill's 4.75 s (Hann window) as the power in 15-19 Hz and in
+// 70-81 Hz; the rest (a floor with smaller peaks at 19-24 Hz and 90 Hz) is
+// white noise here.
+struct Line {
+  double hz;
+  Eigen::Vector3d gyro_share, accel_share;
+};
+const Line kLines[] = {
+    {17.0, {0.39, 0.07, 0.10}, {0.02, 0.24, 0.03}},  // 15-19 Hz
+    {75.0, {0.00, 0.09, 0.03}, {0.19, 0.01, 0.05}},  // 70-81 Hz (75: its middle)
+};
 
-// In-situ std -> two sinusoids of variance kPeakShare * std^2 each (a sine
-// of amplitude A has variance A^2 / 2) and white noise with the rest,
-// as a density at the measurement rate (std = density * sqrt(rate)).
+// A sine of amplitude A has variance A^2 / 2; white noise of std s at the
+// measurement rate has the density s / sqrt(rate).
 void standstillVibration(ImuImperfections* imu) {
-  const double tone = std::sqrt(2.0 * kPeakShare), floor = std::sqrt(1.0 - 2.0 * kPeakShare);
-  for (double f : kPeakHz) imu->tones.push_back({f, tone * kStandstillGyroStd, tone * kStandstillAccelStd});
-  imu->gyro_broadband_density = floor * kStandstillGyroStd / std::sqrt(kStandstillRateHz);
-  imu->accel_broadband_density = floor * kStandstillAccelStd / std::sqrt(kStandstillRateHz);
+  Eigen::Vector3d gyro_rest = Eigen::Vector3d::Ones(), accel_rest = Eigen::Vector3d::Ones();
+  for (const Line& l : kLines) {
+    imu->tones.push_back({l.hz, (2.0 * l.gyro_share).cwiseSqrt().cwiseProduct(kStandstillGyroStd),
+                          (2.0 * l.accel_share).cwiseSqrt().cwiseProduct(kStandstillAccelStd)});
+    gyro_rest -= l.gyro_share;
+    accel_rest -= l.accel_share;
+  }
+  imu->gyro_broadband_density = gyro_rest.cwiseSqrt().cwiseProduct(kStandstillGyroStd) / std::sqrt(kStandstillRateHz);
+  imu->accel_broadband_density = accel_rest.cwiseSqrt().cwiseProduct(kStandstillAccelStd) / std::sqrt(kStandstillRateHz);
 }
 
 }  // namespace
