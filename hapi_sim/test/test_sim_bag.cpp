@@ -2,12 +2,15 @@
 // whole file, the topic list with types, counts, stamps (camera stamps 3 ms
 // late) and latching, the true extrinsic on /tf_static, the scene and
 // calibration YAML, ground-truth odometry twist against its own poses, the
-// IMU against the IMU ground truth, and the --asl folder written alongside.
+// IMU against the IMU ground truth, the --asl folder written alongside, and
+// --realism real: the filter's topics carry the believed calibration, the
+// ground truth the true one, CameraInfo the real lens.
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/String.h>
@@ -79,11 +82,12 @@ class SimBagTest : public ::testing::Test {
     generate("--scene skin --trajectory handheld --seed 1 --output " + tmp("a2.bag"));
     generate("--scene skin --trajectory handheld --seed 2 --output " + tmp("b.bag"));
     generate("--scene globe --trajectory subject --seed 1 --output " + tmp("g.bag"));
+    generate("--scene skin --trajectory rest --seed 4 --realism real --output " + tmp("r.bag"));
     skin_ = new BagData(readBag(tmp("a.bag")));
     globe_ = new BagData(readBag(tmp("g.bag")));
   }
   static void TearDownTestSuite() {
-    for (const char* f : {"a.bag", "a2.bag", "b.bag", "g.bag"}) std::remove(tmp(f).c_str());
+    for (const char* f : {"a.bag", "a2.bag", "b.bag", "g.bag", "r.bag"}) std::remove(tmp(f).c_str());
     std::filesystem::remove_all(tmp("asl"));
     delete skin_;
     delete globe_;
@@ -163,6 +167,44 @@ TEST_F(SimBagTest, ExtrinsicSceneAndCalibrationYaml) {
   const std::string& c = skin_->text.at("/ground_truth/calibration");
   EXPECT_NE(c.find("time_offset_s: -0.003\n"), std::string::npos);
   EXPECT_NE(c.find("T_cam_imu: ["), std::string::npos);
+}
+
+TEST_F(SimBagTest, RealismRealTellsTheFilterTheBelievedCalibration) {
+  ScenarioConfig cfg;
+  cfg.scene = SceneKind::Skin;
+  cfg.trajectory = TrajectoryKind::Rest;
+  cfg.seed = 4;
+  cfg.duration = 1;
+  cfg.image_scale = 0.25;
+  cfg.realism = Realism::Real;
+  const Scenario sc(cfg);
+  const BagData real = readBag(tmp("r.bag"));
+  ASSERT_EQ(real.tf_static.size(), 1u);
+  const CameraImuCalibration &told = sc.believedCalibration(), &truth = sc.calibration();
+  bool found = false;
+  for (const auto& t : real.tf_static[0].transforms)
+    if (t.child_frame_id == "imu_link") {
+      found = true;
+      EXPECT_LT((vec(t.transform.translation) - told.T_cam_imu.p).norm(), 1e-15);
+      EXPECT_LT(quat(t.transform.rotation).angularDistance(told.T_cam_imu.q), 1e-12);
+      EXPECT_NEAR(quat(t.transform.rotation).angularDistance(truth.T_cam_imu.q), sc.realism().calibration.rotation_rad,
+                  1e-9);
+    }
+  EXPECT_TRUE(found);
+  EXPECT_EQ(real.text.at("/calibration"), sc.believedCalibrationYaml());
+  EXPECT_EQ(real.text.at("/ground_truth/calibration"), sc.calibrationYaml());
+  EXPECT_NE(real.text.at("/calibration"), real.text.at("/ground_truth/calibration"));
+  EXPECT_TRUE(real.latched.at("/calibration"));
+  EXPECT_EQ(skin_->types.count("/calibration"), 0u);  // the ideal bag keeps its historic topics
+  const auto info = hapi_sim_test::readMessages<sensor_msgs::CameraInfo>(tmp("r.bag"), "/stereo/left/camera_info");
+  ASSERT_FALSE(info.empty());
+  EXPECT_EQ(info[0].distortion_model, "plumb_bob");
+  ASSERT_EQ(info[0].D.size(), 5u);
+  EXPECT_EQ(info[0].D[0], sc.realism().left_lens.k1);
+  // Camera stamps follow the true offset.
+  ASSERT_FALSE(real.left.empty());
+  EXPECT_EQ(real.left[1].header.stamp.toNSec() - real.left[0].header.stamp.toNSec(), 100000000u);
+  EXPECT_EQ(static_cast<int64_t>(real.left[0].header.stamp.toNSec()), kSimEpochNs - truth.time_offset_ns);
 }
 
 // REP-105 twist in the child frame, checked against central differences of

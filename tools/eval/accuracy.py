@@ -13,7 +13,8 @@ simulator's ground truth (docs/ACCURACY.md records the figures):
                                                       NEES, IMU-rate velocity errors
 
     accuracy.py [--scenarios skin:handheld,globe:smooth,...] [--models constant_velocity,gyro,inertial]
-                [--seeds 1] [--duration 30] [--data DIR] [--out DIR] [--markdown FILE] [--set key=value ...]
+                [--seeds 1] [--duration 30] [--realism ideal|real] [--data DIR] [--out DIR] [--markdown FILE]
+                [--set key=value ...]
     accuracy.py --nees-seeds 20 --scenarios skin:handheld --models inertial --duration 10
     accuracy.py --recording DIR [--rate-divisor auto|N] [--models ...] [--data DIR] ...
 
@@ -30,7 +31,9 @@ otherwise (the low-contrast skin needs a lower FAST threshold and a looser
 sub-pixel correlation, docs/ACCURACY.md says why). Stamps: the filter runs on
 the camera clock, the truth is on the IMU clock (the bag's
 /ground_truth/calibration time_offset_s, t_imu = t_cam + offset); estimates
-are moved to the truth's clock before they are compared.
+are moved to the truth's clock before they are compared. --realism real:
+make_sim_bag's real-like profile; the filter gets the bag's believed time
+offset (/calibration) and extrinsic (/tf_static), the evaluation the truth.
 
 A run "diverged" when its ATE exceeds 5 % of the distance travelled, its
 largest error exceeds 0.2 m, or the replay failed. A truth that stands still
@@ -84,13 +87,13 @@ def landmark_stream(bag, name, frontend_args, data, log):
     return txt
 
 
-def stream_for(scene, traj, seed, duration, data, log):
+def stream_for(scene, traj, seed, duration, data, log, realism="ideal"):
     """The landmark stream of a scenario (generated and cached on first use)."""
-    name = f"{scene}_{traj}_s{seed}_{duration:g}s"
+    name = f"{scene}_{traj}_s{seed}_{duration:g}s" + ("" if realism == "ideal" else "_" + realism)
     bag = os.path.join(data, name + ".bag")
     if not os.path.exists(bag):
         st, _ = run(["rosrun", "hapi_sim", "make_sim_bag", "--scene", scene, "--trajectory", traj, "--seed",
-                     str(seed), "--duration", str(duration), "--output", bag + ".tmp"], log)
+                     str(seed), "--duration", str(duration), "--realism", realism, "--output", bag + ".tmp"], log)
         if st != 0:
             raise RuntimeError(f"make_sim_bag failed for {name} (see {log})")
         os.replace(bag + ".tmp", bag)
@@ -106,13 +109,14 @@ def recording_stream(folder, rate_divisor, data, log):
     return recording.name(bag), bag, landmark_stream(bag, stem, [], os.path.dirname(bag), log)
 
 
-def time_offset(bag):
-    """t_imu = t_cam + offset, from the bag's /ground_truth/calibration (0 without)."""
+def time_offset(bag, topic="/ground_truth/calibration", default=0.0):
+    """t_imu = t_cam + offset, from the bag's calibration topic (default without): /ground_truth/calibration
+    the truth, /calibration (make_sim_bag --realism real) what the filter is told."""
     import rosbag
     with rosbag.Bag(bag) as b:
-        for _, msg, _ in b.read_messages(topics=["/ground_truth/calibration"]):
+        for _, msg, _ in b.read_messages(topics=[topic]):
             return float(yaml.safe_load(msg.data).get("time_offset_s", 0.0))
-    return 0.0
+    return default
 
 
 def read_stream_truth(txt):
@@ -251,11 +255,12 @@ def anees(results):
 def score_stream(label, bag, txt, models, seed, out, log, settings):
     """Every motion model's replay of one landmark stream, scored: the table's rows."""
     offset = time_offset(bag)
+    told = time_offset(bag, "/calibration", default=offset)  # what the filter is told (make_sim_bag --realism real)
     truth, truth_twist, lm_per_frame = read_stream_truth(txt)
     rows = []
     for model in models:
         prefix = os.path.join(out, f"{os.path.basename(txt)[:-len('_stream.txt')]}_{model}")
-        status, events = replay(txt, model, offset, prefix, log, settings)
+        status, events = replay(txt, model, told, prefix, log, settings)
         rep, series = evaluate(prefix, model, offset, truth, truth_twist) if status == 0 else (None, None)
         r = {"scenario": label, "model": model, "seed": seed, "landmarks_per_frame": lm_per_frame, "metrics": rep,
              "events": events, "diverged": diverged(rep, status), "series": series}
@@ -275,6 +280,8 @@ def parse_args(argv):
     ap.add_argument("--seeds", type=int, default=1, help="seeds 1..N per scenario")
     ap.add_argument("--nees-seeds", type=int, default=0, help="ANEES over seeds 1..N (one scenario, one model)")
     ap.add_argument("--duration", type=float, default=30.0)
+    ap.add_argument("--realism", choices=("ideal", "real"), default="ideal",
+                    help="make_sim_bag's sensor/calibration profile (real: the filter is told a wrong calibration)")
     ap.add_argument("--data", help="cache of the generated or converted bags and their landmark streams "
                                    "(default: .data/sim; with --recording scripts/run_dataset.sh's cache)")
     ap.add_argument("--out", default="/tmp/hapi_accuracy")
@@ -302,11 +309,12 @@ def main(argv=None):
         for sc in a.scenarios.split(","):
             scene, traj = sc.split(":")
             for seed in seeds:
-                _, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log)
+                _, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log, a.realism)
                 label = f"{scene}/{traj}" + (f" s{seed}" if len(seeds) > 1 else "")
                 results += score_stream(label, bag, txt, models, seed, a.out, log, a.set)
     text = table(results)
     report = {"command": " ".join(sys.argv), "duration_s": None if a.recording else a.duration,
+              "realism": None if a.recording else a.realism,
               "runs": [{k: v for k, v in r.items() if k != "series"} for r in results]}
     if a.nees_seeds:
         report["anees"] = run_analysis.to_plain(anees(results))

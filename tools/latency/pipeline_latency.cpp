@@ -25,9 +25,9 @@
 //   (config/frontend.yaml, e.g. fast_threshold=8), checked against its range.
 // key=value: a back-end setting (config/eskf.yaml names, checked likewise).
 //   The motion model is `inertial` unless set: the main job's model when the
-//   recording has IMU. The filter gets the scenario's true camera-IMU
-//   extrinsic and time offset, which the bags carry (/tf_static,
-//   /ground_truth/calibration) and the launch files pass.
+//   recording has IMU. The filter gets the camera-IMU extrinsic and time
+//   offset that the bags tell a filter (/tf_static, /calibration): the true
+//   ones except under --realism real.
 // --out PREFIX: PREFIX_truth.tum and PREFIX_<frontend>_<backend>.tum (TUM:
 //   t x y z qx qy qz qw, the left camera per frame, on the camera clock) for
 //   tools/eval/evaluate.py, and PREFIX_<frontend>_<backend>_times.txt (per
@@ -92,8 +92,9 @@ Recording record(const hapi_sim::Scenario& sc) {
   Recording rec;
   rec.left = hapi_frontend::copyCameraInfo(sc.rig().leftInfo());
   rec.right = hapi_frontend::copyCameraInfo(sc.rig().rightInfo());
-  // X_cam = T_cam_imu X_imu; the filter takes the camera in the IMU frame.
-  const hapi_sim::Pose& T = sc.calibration().T_cam_imu;
+  // X_cam = T_cam_imu X_imu; the filter takes the camera in the IMU frame, as
+  // the device believes it (the truth except under --realism real).
+  const hapi_sim::Pose& T = sc.believedCalibration().T_cam_imu;
   rec.extrinsic.R_imu_cam = T.q.toRotationMatrix().transpose();
   rec.extrinsic.p_imu_cam = -(rec.extrinsic.R_imu_cam * T.p);
   sc.play(
@@ -314,7 +315,7 @@ int main(int argc, char** argv) {
   if (!cfg.validate().empty()) usage(cfg.validate());
   if (!fp.validate().empty()) usage(fp.validate());
   const hapi_sim::Scenario sc(cfg);
-  s.imu_time_offset = sc.calibration().time_offset_ns * 1e-9;
+  s.imu_time_offset = sc.believedCalibration().time_offset_ns * 1e-9;
   for (const auto& [key, value] : eskf_overrides) {
     const std::string err = hapi_eskf::setFieldFromText(&s, key, value);
     if (!err.empty()) usage(err);

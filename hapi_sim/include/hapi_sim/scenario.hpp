@@ -21,6 +21,7 @@
 #include "hapi_sim/image_formation.hpp"
 #include "hapi_sim/imu_model.hpp"
 #include "hapi_sim/motion.hpp"
+#include "hapi_sim/realism.hpp"
 #include "hapi_sim/scene.hpp"
 #include "hapi_sim/trajectories.hpp"
 
@@ -46,6 +47,7 @@ struct ScenarioConfig {
   bool imu_noise = true;      // white noise, turn-on bias, bias random walk
   bool imu_saturation = true;
   double image_scale = 1.0;   // of the 640 x 480 rig (smaller for quick tests)
+  Realism realism = Realism::Ideal;  // sensor and calibration imperfections (realism.hpp)
   std::string globe_texture = "/usr/share/xplanet/images/earth.jpg";
   // "" when valid, else what is wrong (one rule for every front end).
   std::string validate() const;
@@ -56,6 +58,8 @@ struct CameraImuCalibration {
   Pose T_cam_imu;              // imu_link in the left optical frame: X_cam = T_cam_imu X_imu (Kalibr's T_cam_imu)
   int64_t time_offset_ns = 0;  // t_imu = t_cam + offset (Kalibr's timeshift_cam_imu)
   static CameraImuCalibration makeDefault();
+  // This calibration made wrong by `error`, the error's directions drawn from the seed.
+  CameraImuCalibration perturbed(const CalibrationError& error, uint32_t seed) const;
   std::string yaml(const ImuSpec& imu, double imu_rate) const;  // /ground_truth/calibration
 };
 
@@ -66,9 +70,14 @@ class Scenario {
   const ScenarioConfig& config() const { return cfg_; }
   const Scene& scene() const { return *scene_; }
   const StereoRigModel& rig() const { return rig_; }
-  const CameraImuCalibration& calibration() const { return calib_; }
+  const CameraImuCalibration& calibration() const { return calib_; }  // the truth
+  // What the filter is told (the bag's /tf_static and /calibration): the truth
+  // except under --realism real.
+  const CameraImuCalibration& believedCalibration() const { return believed_calib_; }
+  const RealismProfile& realism() const { return profile_; }
   const ImuSpec& imuSpec() const { return imu_spec_; }
   std::string calibrationYaml() const { return calib_.yaml(imu_spec_, cfg_.imu_rate); }
+  std::string believedCalibrationYaml() const { return believed_calib_.yaml(imu_spec_, cfg_.imu_rate); }
 
   int64_t frameCount() const { return n_frames_; }
   int64_t imuCount() const { return n_imu_; }
@@ -96,9 +105,10 @@ class Scenario {
 
  private:
   ScenarioConfig cfg_;
+  RealismProfile profile_;
   std::unique_ptr<Scene> scene_;
   StereoRigModel rig_;
-  CameraImuCalibration calib_;
+  CameraImuCalibration calib_, believed_calib_;
   ImuSpec imu_spec_;
   std::unique_ptr<RigidMotion> device_, scene_motion_;
   ExposureModel exposure_;

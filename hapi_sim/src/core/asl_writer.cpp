@@ -72,8 +72,9 @@ const char* const AslWriter::kPoseHeader =
 AslWriter::AslWriter(const std::string& root, const Scenario& s) : s_(s), mav_(root + "/mav0") {
   for (const char* d : {"cam0/data", "cam1/data", "imu0", "state_groundtruth_estimate0", "scene_groundtruth0"})
     fs::create_directories(mav_ + "/" + d);
-  // T_BS of the cameras: the camera in the body (= IMU) frame.
-  const Pose T_BC0 = inversePose(s.calibration().T_cam_imu);
+  // T_BS of the cameras: the camera in the body (= IMU) frame, as the device
+  // believes it (a reader's calibration); calibration.yaml keeps the truth.
+  const Pose T_BC0 = inversePose(s.believedCalibration().T_cam_imu);
   Pose T_C0C1;
   T_C0C1.p = Eigen::Vector3d(s.rig().baseline, 0, 0);
   const double rate = s.config().rate;

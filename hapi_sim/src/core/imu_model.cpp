@@ -29,13 +29,64 @@ ImuSpec ImuSpec::adis16448() {
   return s;
 }
 
-ImuModel::ImuModel(const ImuSpec& spec, double rate_hz, uint32_t seed, bool noise, bool saturate)
-    : spec_(spec), rate_(rate_hz), noise_(noise), saturate_(saturate), rng_(mixSeed(seed, 0xFFFFFF04u, 13)) {
+namespace {
+
+// Uniform in [-bound, bound].
+double symmetric(GaussianRng* rng, double bound) { return bound * (2.0 * rng->uniform01() - 1.0); }
+
+// I + per-axis scale errors on the diagonal + cross-axis terms (small-angle
+// misalignment of non-orthogonal sensing axes) off it.
+Eigen::Matrix3d sensingMatrix(GaussianRng* rng, double scale_bound, double misalignment_bound) {
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  for (int i = 0; i < 3; ++i) M(i, i) += symmetric(rng, scale_bound);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (i != j) M(i, j) = symmetric(rng, misalignment_bound);
+  return M;
+}
+
+}  // namespace
+
+ImuModel::ImuModel(const ImuSpec& spec, double rate_hz, uint32_t seed, bool noise, bool saturate,
+                   const ImuImperfections& imperfections)
+    : spec_(spec), rate_(rate_hz), noise_(noise), saturate_(saturate), rng_(mixSeed(seed, 0xFFFFFF04u, 13)),
+      imp_(imperfections), imperfect_(noise && imperfections.any()), imp_rng_(mixSeed(seed, 0xFFFFFF05u, 17)) {
   if (noise_)
     for (int i = 0; i < 3; ++i) {
       bg_[i] = spec_.gyro_turn_on_sigma * rng_.normal();
       ba_[i] = spec_.accel_turn_on_sigma * rng_.normal();
     }
+  if (imperfect_) drawImperfections();
+}
+
+void ImuModel::drawImperfections() {
+  // A mounted part's turn-on bias replaces the factory-calibrated one.
+  for (int i = 0; i < 3; ++i) {
+    if (imp_.gyro_turn_on_bound > 0) bg_[i] = symmetric(&imp_rng_, imp_.gyro_turn_on_bound);
+    if (imp_.accel_turn_on_bound > 0) ba_[i] = symmetric(&imp_rng_, imp_.accel_turn_on_bound);
+  }
+  Mg_ = sensingMatrix(&imp_rng_, imp_.gyro_scale_bound, imp_.gyro_misalignment_bound);
+  Ma_ = sensingMatrix(&imp_rng_, imp_.accel_scale_bound, imp_.accel_misalignment_bound);
+  for (size_t k = 0; k < imp_.tones.size(); ++k) {
+    Eigen::Matrix<double, 6, 1> ph;
+    for (int i = 0; i < 6; ++i) ph[i] = 2.0 * M_PI * imp_rng_.uniform01();
+    phases_.push_back(ph);
+  }
+}
+
+void ImuModel::addVibration(ImuReading* r) {
+  const double t = static_cast<double>(n_) / rate_;
+  for (size_t k = 0; k < imp_.tones.size(); ++k) {
+    const VibrationTone& v = imp_.tones[k];
+    const double w = 2.0 * M_PI * v.frequency_hz * t;
+    for (int i = 0; i < 3; ++i) {
+      r->gyro[i] += v.gyro_amplitude[i] * std::sin(w + phases_[k][i]);
+      r->accel[i] += v.accel_amplitude[i] * std::sin(w + phases_[k][3 + i]);
+    }
+  }
+  const double s = std::sqrt(rate_);
+  for (int i = 0; i < 3; ++i) r->gyro[i] += imp_.gyro_broadband_density[i] * s * imp_rng_.normal();
+  for (int i = 0; i < 3; ++i) r->accel[i] += imp_.accel_broadband_density[i] * s * imp_rng_.normal();
 }
 
 Eigen::Vector3d ImuModel::specificForce(const MotionSample& imu) {
@@ -47,6 +98,10 @@ ImuReading ImuModel::measure(const MotionSample& imu) {
   ImuReading r;
   r.gyro = imu.omega;
   r.accel = specificForce(imu);
+  if (imperfect_) {
+    r.gyro = Mg_ * r.gyro;
+    r.accel = Ma_ * r.accel;
+  }
   r.gyro_bias = bg_;
   r.accel_bias = ba_;
   if (noise_) {
@@ -57,6 +112,8 @@ ImuReading ImuModel::measure(const MotionSample& imu) {
     for (int i = 0; i < 3; ++i) bg_[i] += spec_.gyro_random_walk * sdt * rng_.normal();
     for (int i = 0; i < 3; ++i) ba_[i] += spec_.accel_random_walk * sdt * rng_.normal();
   }
+  if (imperfect_) addVibration(&r);
+  ++n_;
   if (saturate_)
     for (int i = 0; i < 3; ++i) {
       r.gyro[i] = std::clamp(r.gyro[i], -spec_.gyro_range, spec_.gyro_range);

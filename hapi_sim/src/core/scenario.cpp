@@ -10,10 +10,19 @@
 namespace hapi_sim {
 namespace {
 
+void setLens(const LensDistortion& d, CameraModel* c) {
+  c->k1 = d.k1; c->k2 = d.k2; c->p1 = d.p1; c->p2 = d.p2; c->k3 = d.k3;
+}
+
 // The rig at a fraction of its resolution: focal lengths scale, the
 // principal point keeps its place in the image (pixel centres at integers).
-StereoRigModel scaledRig(double s) {
+// The profile's lens, where it has one.
+StereoRigModel scaledRig(double s, const RealismProfile& profile) {
   StereoRigModel rig = StereoRigModel::makeDefault();
+  if (profile.real_lens) {
+    setLens(profile.left_lens, &rig.left);
+    setLens(profile.right_lens, &rig.right);
+  }
   for (CameraModel* c : {&rig.left, &rig.right}) {
     c->width = static_cast<int>(std::lround(c->width * s));
     c->height = static_cast<int>(std::lround(c->height * s));
@@ -64,6 +73,23 @@ CameraImuCalibration CameraImuCalibration::makeDefault() {
   return c;
 }
 
+CameraImuCalibration CameraImuCalibration::perturbed(const CalibrationError& e, uint32_t seed) const {
+  if (!e.any()) return *this;
+  GaussianRng rng(mixSeed(seed, 0xFFFFFF06u, 19));
+  auto direction = [&rng] {
+    Eigen::Vector3d d;
+    for (int i = 0; i < 3; ++i) d[i] = rng.normal();
+    return d.normalized();
+  };
+  CameraImuCalibration c = *this;
+  const Eigen::Vector3d axis = direction(), shift = direction();
+  c.T_cam_imu.q = (Eigen::Quaterniond(Eigen::AngleAxisd(e.rotation_rad, axis)) * T_cam_imu.q).normalized();
+  c.T_cam_imu.p = T_cam_imu.p + e.translation_m * shift;
+  const double sign = rng.uniform01() < 0.5 ? -1.0 : 1.0;
+  c.time_offset_ns = time_offset_ns + std::llround(sign * e.time_offset_s * 1e9);
+  return c;
+}
+
 std::string CameraImuCalibration::yaml(const ImuSpec& imu, double imu_rate) const {
   std::ostringstream y;
   y << "# X_cam = T_cam_imu * X_imu (Kalibr's T_cam_imu): imu_link in stereo_left_optical_frame, 4x4 row-major\n"
@@ -84,9 +110,11 @@ std::string CameraImuCalibration::yaml(const ImuSpec& imu, double imu_rate) cons
 
 Scenario::Scenario(const ScenarioConfig& config)
     : cfg_(config),
+      profile_(RealismProfile::forLevel(config.realism)),
       scene_(config.scene == SceneKind::Globe ? makeGlobeSimScene(config.globe_texture) : makeSkinScene()),
-      rig_(scaledRig(config.image_scale)),
+      rig_(scaledRig(config.image_scale, profile_)),
       calib_(CameraImuCalibration::makeDefault()),
+      believed_calib_(calib_.perturbed(profile_.calibration, config.seed)),
       imu_spec_(ImuSpec::adis16448()),
       device_(makeDeviceMotion(config.trajectory, scene_->view(), config.seed)),
       scene_motion_(makeSceneMotion(config.trajectory, scene_->view(), config.seed)),
@@ -125,7 +153,7 @@ void Scenario::renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const {
 }
 
 ImuModel Scenario::makeImuModel() const {
-  return ImuModel(imu_spec_, cfg_.imu_rate, cfg_.seed, cfg_.imu_noise, cfg_.imu_saturation);
+  return ImuModel(imu_spec_, cfg_.imu_rate, cfg_.seed, cfg_.imu_noise, cfg_.imu_saturation, profile_.imu);
 }
 
 void Scenario::play(const ImuSink& on_imu, const FrameSink& on_frame) const {

@@ -11,7 +11,8 @@ namespace hapi_sim {
 const char* const kScenarioOptionsUsage =
     "--scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest|orbit\n"
     "  [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ] [--exposure-ms MS] [--blur-samples N]\n"
-    "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]";
+    "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]\n"
+    "  [--realism ideal|real]";
 
 bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
   using hapi_dataset::parseFlagArg;
@@ -41,6 +42,8 @@ bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfi
     cfg->imu_noise = parseFlagArg(k, v);
   } else if (k == "--image-scale") {
     cfg->image_scale = parseNumberArg(k, v);
+  } else if (k == "--realism") {
+    if (!parseRealism(v, &cfg->realism)) throw std::invalid_argument("--realism must be ideal or real");
   } else if (k == "--texture") {
     cfg->globe_texture = v;
   } else {

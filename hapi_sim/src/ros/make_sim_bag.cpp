@@ -6,11 +6,15 @@
 //                [--output FILE.bag] [--asl DIR]
 //                [--exposure-ms MS] [--blur-samples N] [--photometric 0|1]
 //                [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]
+//                [--realism ideal|real]
 //
 // Topics (frames as make_globe_bag's; every stamp from the fixed epoch 1e9 s):
 //   /stereo/{left,right}/image_raw, camera_info  camera clock (t_imu - time offset)
 //   /imu/data              sensor_msgs/Imu in imu_link, IMU rate, covariances of the noise model
-//   /tf_static             left -> right optical, left optical -> imu_link (the true extrinsic)
+//   /tf_static             left -> right optical, left optical -> imu_link (the extrinsic the
+//                          device believes: the true one except under --realism real)
+//   /calibration           (--realism real only) latched YAML as /ground_truth/calibration's, with
+//                          the believed extrinsic and time offset: what a filter is told
 //   /tf                    world -> ground_truth/stereo_left_optical_frame at each frame's true time
 //   /ground_truth/pose     the same as PoseStamped
 //   /ground_truth/odometry nav_msgs/Odometry at IMU rate: the left camera in world (the scene
@@ -18,7 +22,7 @@
 //   /ground_truth/imu_odometry  the IMU in the inertial frame "inertial", IMU rate (equals world
 //                          except in the subject-motion scenario, where the scene moves)
 //   /ground_truth/scene    latched YAML of the scene's surfaces in world
-//   /ground_truth/calibration  latched YAML: T_cam_imu, time_offset_s and its sign, IMU noise
+//   /ground_truth/calibration  latched YAML: the true T_cam_imu, time_offset_s and its sign, IMU noise
 //   /globe/info            (globe scene) latched, 1 Hz, as make_globe_bag
 // Ground truth is stamped in the true (IMU) clock. Same arguments -> the same
 // bytes (rosbag writes no wall-clock time).
@@ -118,7 +122,7 @@ int main(int argc, char** argv) {
   }
 
   const ros::Time t0 = stampAt(0);
-  const CameraImuCalibration& cal = sc.calibration();
+  const CameraImuCalibration& told = sc.believedCalibration();
   const std_msgs::String globe_info =
       text(globeInfoYaml(sc.scene().surfaces()[0].radius, sc.scene().surfaces()[0].centre, kWorld, opt.cfg.seed,
                          sc.scene().textureSource()));
@@ -126,10 +130,12 @@ int main(int argc, char** argv) {
     tf2_msgs::TFMessage st;
     st.transforms.push_back(toTransformMsg(t0, kLeft, kRight, Eigen::Vector3d(sc.rig().baseline, 0, 0),
                                            Eigen::Quaterniond::Identity()));
-    st.transforms.push_back(toTransformMsg(t0, kLeft, kImu, cal.T_cam_imu.p, cal.T_cam_imu.q));
+    st.transforms.push_back(toTransformMsg(t0, kLeft, kImu, told.T_cam_imu.p, told.T_cam_imu.q));
     bag->write("/tf_static", t0, st, latchedHeader<tf2_msgs::TFMessage>(kCaller));
     bag->write("/ground_truth/scene", t0, text(sc.scene().yaml()), latchedHeader<std_msgs::String>(kCaller));
     bag->write("/ground_truth/calibration", t0, text(sc.calibrationYaml()), latchedHeader<std_msgs::String>(kCaller));
+    if (opt.cfg.realism != Realism::Ideal)
+      bag->write("/calibration", t0, text(sc.believedCalibrationYaml()), latchedHeader<std_msgs::String>(kCaller));
   }
   const CameraInfoData ci_l = sc.rig().leftInfo(), ci_r = sc.rig().rightInfo();
   ImuModel imu_model = sc.makeImuModel();
