@@ -103,9 +103,11 @@ class NeesTest(unittest.TestCase):
         self.assertLess(lo, s["mean"])
         self.assertLess(s["mean"], hi)
         self.assertAlmostEqual(s["fraction_in_95_band"], 0.95, delta=0.02)
+        self.assertAlmostEqual(s["fraction_above_95_band"], 0.025, delta=0.015)
         # A covariance stated 4x too small is detected.
         s_bad = tm.nees_summary(tm.nees(e, np.repeat(cov[None] / 4, n, axis=0)))
         self.assertGreater(s_bad["mean"], s_bad["mean_bounds_95"][1])
+        self.assertGreater(s_bad["fraction_above_95_band"], 0.3)
 
     def test_pose_nees_uses_the_alignment(self):
         rng = np.random.default_rng(8)

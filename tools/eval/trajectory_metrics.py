@@ -168,8 +168,9 @@ def nees_summary(values, dof=3):
         return None
     lo, hi = chi2_bounds_of_mean(dof, len(v))
     inside = np.mean((v >= CHI2_3DOF_95[0]) & (v <= CHI2_3DOF_95[1]))
+    above = np.mean(v > CHI2_3DOF_95[1])
     return {"mean": float(v.mean()), "mean_bounds_95": [float(lo), float(hi)],
-            "fraction_in_95_band": float(inside), "samples": int(len(v))}
+            "fraction_in_95_band": float(inside), "fraction_above_95_band": float(above), "samples": int(len(v))}
 
 
 def velocity_errors(est_twist, ref_twist):
