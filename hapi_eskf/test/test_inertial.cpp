@@ -342,7 +342,7 @@ TEST(GyroModel, StepJacobianMatchesFiniteDifferences) {
     const Eigen::MatrixXd Fn = numericStepJacobian(*m, x, dt, imu);
     EXPECT_LT((Fn - Eigen::MatrixXd(F)).cwiseAbs().maxCoeff(), 1e-7) << "dt " << dt << "\n" << Fn - F;
     // The bias enters: a rate error of the bias's size turns the camera.
-    EXPECT_GT(F.block<3, 3>(kIdxTheta, kIdxGyroBias).norm(), 0.5 * dt);
+    EXPECT_GT((F.block<3, 3>(kIdxTheta, kIdxGyroBias).norm()), 0.5 * dt);
   }
 }
 
