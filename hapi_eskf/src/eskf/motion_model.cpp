@@ -19,7 +19,9 @@ std::unique_ptr<MotionModel> makeMotionModel(const EskfSettings& s, const Camera
 
 CalibrationLayout calibrationLayout(const EskfSettings& s) {
   CalibrationLayout l;
-  if (s.motion_model != MotionModelKind::kInertial || s.backend_algorithm == BackendAlgorithm::kSeif) return l;
+  // The ES-EKF's; the SEIF's information-form motion update and the other
+  // back ends (no inertial pose block) do not estimate it.
+  if (s.motion_model != MotionModelKind::kInertial || s.backend_algorithm != BackendAlgorithm::kEskf) return l;
   int row = kInertialDim;
   if (s.calib_cam_extrinsics) {
     l.extrinsic = row;

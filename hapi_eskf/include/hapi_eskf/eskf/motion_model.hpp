@@ -53,8 +53,8 @@ struct NominalState {
 };
 
 // Where the online calibration's rows sit in the pose block (-1: not
-// estimated). Only the inertial model calibrates, after its 18 rows, and not
-// over the SEIF's storage (its information-form motion update).
+// estimated). Only the inertial model of the ES-EKF calibrates, after its
+// 18 rows; not over the SEIF's storage (its information-form motion update).
 struct CalibrationLayout {
   int extrinsic = -1;    // [dtheta_bc, dp_bc]: R_bc = R_bc^ Exp(dtheta_bc), p_bc = p_bc^ + dp_bc
   int time_offset = -1;  // [dt_d]: t_d = t_d^ + dt_d
