@@ -35,30 +35,6 @@ EskfSettings calibratingSettings() {
   return s;
 }
 
-NominalState someState(const CameraExtrinsic& e) {
-  NominalState x;
-  x.p = Vec3(0.3, -0.2, 1.1);
-  x.q = quatExp(Vec3(0.3, -0.5, 0.8));
-  x.v = Vec3(0.4, -0.1, 0.2);
-  x.b_g = Vec3(0.01, -0.02, 0.005);
-  x.b_a = Vec3(0.1, 0.05, -0.08);
-  x.g = Vec3(0.05, -0.02, -9.8);
-  x.w = Vec3(0.7, -0.4, 1.1);
-  x.f = Vec3(0.5, 9.6, -1.2);
-  x.has_imu = true;
-  x.R_bc = e.R_imu_cam;
-  x.p_bc = e.p_imu_cam;
-  x.t_d = 0.003;
-  return x;
-}
-
-// The camera's error [dp, dtheta, dv, dw] between two camera views.
-Eigen::Matrix<double, 12, 1> cameraError(const PoseState& c, const PoseState& c0) {
-  Eigen::Matrix<double, 12, 1> e;
-  e << c.p - c0.p, logSO3(c0.q.toRotationMatrix().transpose() * c.q.toRotationMatrix()), c.v - c0.v, c.w - c0.w;
-  return e;
-}
-
 TEST(CalibrationModel, LayoutFollowsTheOptions) {
   EskfSettings s = calibratingSettings();
   EXPECT_EQ(poseDim(s), kInertialDim + 7);
@@ -87,7 +63,7 @@ TEST(CalibrationModel, CameraJacobianMatchesFiniteDifferences) {
   const auto m = makeMotionModel(calibratingSettings(), e);
   const CalibrationLayout l = m->calibration();
   const int P = m->poseDim();
-  const NominalState x = someState(e);
+  const NominalState x = sim::someState();
   const PoseState c0 = m->camera(x);
   const Eigen::MatrixXd T = m->cameraStateJacobian(x);
   ASSERT_EQ(T.cols(), P);
@@ -99,7 +75,7 @@ TEST(CalibrationModel, CameraJacobianMatchesFiniteDifferences) {
     NominalState xp = x, xm = x;
     m->inject(&xp, d);
     m->inject(&xm, -d);
-    Tn.col(i) = (cameraError(m->camera(xp), c0) - cameraError(m->camera(xm), c0)) / (2 * h);
+    Tn.col(i) = (sim::cameraError(m->camera(xp), c0) - sim::cameraError(m->camera(xm), c0)) / (2 * h);
   }
   // The time offset moves the camera along its motion, not camera(x).
   Tn.col(l.time_offset).setZero();
@@ -124,7 +100,7 @@ TEST(CalibrationModel, TimeOffsetColumnIsTheCameraMotion) {
   const sim::InertialTrajectory traj;
   const double t = 3.0, h = 1e-5;
   const sim::BodyTruth b = traj.at(t);
-  NominalState x = someState(e);
+  NominalState x = sim::someState();
   x.p = b.p;
   x.q = b.q;
   x.v = b.v;
@@ -141,7 +117,7 @@ TEST(CalibrationModel, TimeOffsetColumnIsTheCameraMotion) {
 
 TEST(CalibrationModel, StepKeepsTheCalibration) {
   const auto m = makeMotionModel(calibratingSettings(), sim::forwardCamera());
-  const NominalState x = someState(sim::forwardCamera());
+  const NominalState x = sim::someState();
   ImuSample imu;
   imu.stamp = 0.01;
   imu.gyro = Vec3(0.3, -0.2, 0.5);
@@ -165,12 +141,8 @@ TEST(CalibrationBlock, TransitionGivesTheCameraErrorAndIsUndone) {
   const CameraExtrinsic e = sim::forwardCamera();
   const auto m = makeMotionModel(s, e);
   const int P = m->poseDim();
-  const NominalState x = someState(e);
-  std::mt19937 rng(3);
-  std::normal_distribution<double> g(0.0, 1.0);
-  Eigen::MatrixXd A(P, P);
-  for (int i = 0; i < A.size(); ++i) A.data()[i] = 0.1 * g(rng);
-  const PoseMat C0 = A * A.transpose() + 0.01 * Eigen::MatrixXd::Identity(P, P);
+  const NominalState x = sim::someState();
+  const PoseMat C0 = sim::randomCovariance(P, 3);
   auto backend = makeCpuBackend(10, 0, P);
   ASSERT_EQ(backend->reset(C0), Status::kOk);
   NewLandmarkBlock nb;
@@ -386,14 +358,10 @@ TEST(CalibrationBlock, ComposesWithTheFrameError) {
   const FrameErrorBlock frame_error(P, s);
   ASSERT_TRUE(frame_error.enabled());
   const int n = frame_error.filterDim();
-  std::mt19937 rng(4);
-  std::normal_distribution<double> g(0.0, 1.0);
-  Eigen::MatrixXd A(P, P);
-  for (int i = 0; i < A.size(); ++i) A.data()[i] = 0.1 * g(rng);
-  const PoseMat C0 = A * A.transpose() + 0.01 * Eigen::MatrixXd::Identity(P, P);
+  const PoseMat C0 = sim::randomCovariance(P, 4);
   auto backend = makeCpuBackend(4, 0, n);
   ASSERT_EQ(backend->reset(frame_error.covariance(C0)), Status::kOk);
-  const NominalState x = someState(e);
+  const NominalState x = sim::someState();
   CalibrationBlock calib(*m);
   FrameErrorBlock fe(P, s);
   ASSERT_EQ(calib.open(backend.get(), fe, *m, x), Status::kOk);
