@@ -147,8 +147,8 @@ TEST(FrameErrorBlock, ShippedForTheImuModelsOfTheEskf) {
   EskfSettings s;  // as shipped
   s.motion_model = MotionModelKind::kInertial;
   EXPECT_TRUE(frameErrorModelled(s));
-  // The shipped inertial filter also estimates its calibration (7 rows).
-  EXPECT_EQ(filterPoseDim(s), kInertialDim + kCalibExtrinsicDim + kCalibTimeOffsetDim + kFrameErrorDim);
+  // The shipped inertial filter also estimates its time offset (1 row).
+  EXPECT_EQ(filterPoseDim(s), kInertialDim + kCalibTimeOffsetDim + kFrameErrorDim);
   s.motion_model = MotionModelKind::kGyro;
   EXPECT_TRUE(frameErrorModelled(s));
   // The constant-velocity model absorbs the shared errors as motion.
