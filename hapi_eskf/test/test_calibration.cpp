@@ -378,6 +378,37 @@ TEST(CalibrationBlock, ComposesWithTheFrameError) {
   EXPECT_LT((fe.modelBlock(backend->poseCovariance()) - C0).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// A new extrinsic (the nodelet's TF) becomes the prior: the state's
+// extrinsic, the prior sigma uncorrelated, the camera pose kept.
+TEST(CalibrationFilter, NewExtrinsicRestartsThePrior) {
+  const EskfSettings s = calibratingSettings();
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, filterPoseDim(s)), sim::forwardCamera());
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  const int e = f.motionModel().calibration().extrinsic, P = f.motionModel().poseDim();
+  // Correlate the extrinsic rows with the pose, as updates do.
+  PoseMat F = PoseMat::Identity(P, P);
+  F.block<3, 3>(kIdxTheta, e).setIdentity();
+  ASSERT_EQ(f.mutableBackend().predict(F, PoseMat::Zero(P, P)), Status::kOk);
+  ASSERT_NE((f.poseCovariance().block<3, 3>(kIdxTheta, e).norm()), 0.0);
+  const PoseState before = f.pose();
+  CameraExtrinsic moved = sim::forwardCamera();
+  moved.R_imu_cam = moved.R_imu_cam * expSO3(Vec3(0.01, 0.02, -0.01));
+  moved.p_imu_cam += Vec3(0.002, 0.0, 0.001);
+  ASSERT_EQ(f.setCameraExtrinsic(moved), Status::kOk);
+  EXPECT_EQ(f.state().R_bc, moved.R_imu_cam);
+  EXPECT_EQ(f.state().p_bc, moved.p_imu_cam);
+  EXPECT_LT((f.pose().p - before.p).norm(), 1e-12);
+  EXPECT_LT(f.pose().q.angularDistance(before.q), 1e-12);
+  const PoseMat C = f.poseCovariance();
+  EXPECT_EQ(C.block(e, 0, kCalibExtrinsicDim, e).cwiseAbs().maxCoeff(), 0.0);
+  const double r2 = s.calib_extrinsic_rotation_sigma * s.calib_extrinsic_rotation_sigma;
+  const double t2 = s.calib_extrinsic_translation_sigma * s.calib_extrinsic_translation_sigma;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_DOUBLE_EQ(C(e + i, e + i), r2);
+    EXPECT_DOUBLE_EQ(C(e + 3 + i, e + 3 + i), t2);
+  }
+}
+
 TEST(CalibrationFilter, OptionsOffLeaveTheModelsPoseBlock) {
   EskfSettings s = calibratingSettings();
   s.calib_cam_extrinsics = false;
