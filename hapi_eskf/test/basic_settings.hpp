@@ -2,7 +2,8 @@
 // defaults (settings.hpp, the tuned values of config/eskf.yaml) with the
 // tuned extras switched off, i.e. no RANSAC before gating, no bootstrap batch,
 // no relocalisation after a gap, C_z as the front end gives it and no
-// frame-shared vision error (the pose block is the motion model's). A test's
+// frame-shared vision error and no online calibration (the pose block is the
+// motion model's 12, 15 or 18 rows). A test's
 // expected counts and bounds then depend on the basic iteration only; the
 // tests of an extra switch it on themselves.
 #pragma once
@@ -21,6 +22,8 @@ inline EskfSettings basicFilter() {
   s.frame_rotation_sigma = 0.0;
   s.frame_optical_axis_sigma = 0.0;
   s.frame_translation_sigma = 0.0;
+  s.calib_cam_extrinsics = false;
+  s.calib_cam_timeoffset = false;
   return s;
 }
 

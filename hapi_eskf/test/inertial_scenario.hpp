@@ -107,5 +107,41 @@ inline CameraExtrinsic forwardCamera() {
   return e;
 }
 
+// A generic inertial state with a sample (Jacobian tests): biases, a
+// tilted gravity, the forward camera's extrinsic and a time offset.
+inline NominalState someState() {
+  NominalState x;
+  x.p = Vec3(0.3, -0.2, 1.1);
+  x.q = quatExp(Vec3(0.3, -0.5, 0.8));
+  x.v = Vec3(0.4, -0.1, 0.2);
+  x.b_g = Vec3(0.01, -0.02, 0.005);
+  x.b_a = Vec3(0.1, 0.05, -0.08);
+  x.g = Vec3(0.05, -0.02, -9.8);
+  x.w = Vec3(0.7, -0.4, 1.1);
+  x.f = Vec3(0.5, 9.6, -1.2);
+  x.has_imu = true;
+  const CameraExtrinsic e = forwardCamera();
+  x.R_bc = e.R_imu_cam;
+  x.p_bc = e.p_imu_cam;
+  x.t_d = 0.003;
+  return x;
+}
+
+// The camera's error [dp, dtheta, dv, dw] between two camera views.
+inline Eigen::Matrix<double, 12, 1> cameraError(const PoseState& c, const PoseState& c0) {
+  Eigen::Matrix<double, 12, 1> e;
+  e << c.p - c0.p, logSO3(c0.q.toRotationMatrix().transpose() * c.q.toRotationMatrix()), c.v - c0.v, c.w - c0.w;
+  return e;
+}
+
+// A random SPD matrix (n x n) for covariance tests.
+inline Eigen::MatrixXd randomCovariance(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < A.size(); ++i) A.data()[i] = 0.1 * g(rng);
+  return A * A.transpose() + 0.01 * Eigen::MatrixXd::Identity(n, n);
+}
+
 }  // namespace sim
 }  // namespace hapi_eskf

@@ -147,7 +147,8 @@ TEST(FrameErrorBlock, ShippedForTheImuModelsOfTheEskf) {
   EskfSettings s;  // as shipped
   s.motion_model = MotionModelKind::kInertial;
   EXPECT_TRUE(frameErrorModelled(s));
-  EXPECT_EQ(filterPoseDim(s), kInertialDim + kFrameErrorDim);
+  // The shipped inertial filter also estimates its time offset (1 row).
+  EXPECT_EQ(filterPoseDim(s), kInertialDim + kCalibTimeOffsetDim + kFrameErrorDim);
   s.motion_model = MotionModelKind::kGyro;
   EXPECT_TRUE(frameErrorModelled(s));
   // The constant-velocity model absorbs the shared errors as motion.
@@ -155,7 +156,8 @@ TEST(FrameErrorBlock, ShippedForTheImuModelsOfTheEskf) {
   EXPECT_FALSE(frameErrorModelled(s));
   EXPECT_EQ(filterPoseDim(s), kCameraMotionDim);
   // The SEIF's information-form motion update inverts the transition; the
-  // frame error's two transitions are singular.
+  // frame error's two transitions are singular (and neither the frame error
+  // nor the calibration is modelled over it).
   s.motion_model = MotionModelKind::kInertial;
   s.backend_algorithm = BackendAlgorithm::kSeif;
   EXPECT_FALSE(frameErrorModelled(s));

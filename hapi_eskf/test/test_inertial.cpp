@@ -26,20 +26,6 @@ EskfSettings inertialSettings() {
   return s;
 }
 
-NominalState someState() {
-  NominalState x;
-  x.p = Vec3(0.3, -0.2, 1.1);
-  x.q = quatExp(Vec3(0.3, -0.5, 0.8));
-  x.v = Vec3(0.4, -0.1, 0.2);
-  x.b_g = Vec3(0.01, -0.02, 0.005);
-  x.b_a = Vec3(0.1, 0.05, -0.08);
-  x.g = Vec3(0.05, -0.02, -9.8);
-  x.w = Vec3(0.7, -0.4, 1.1);
-  x.f = Vec3(0.5, 9.6, -1.2);
-  x.has_imu = true;
-  return x;
-}
-
 // d errorBetween(step(x (+) d), step(x)) / d, by central differences.
 Eigen::MatrixXd numericStepJacobian(const MotionModel& m, const NominalState& x, double dt, const ImuSample& imu) {
   const int P = m.poseDim();
@@ -62,18 +48,11 @@ Eigen::MatrixXd numericStepJacobian(const MotionModel& m, const NominalState& x,
   return J;
 }
 
-// The camera's error [dp, dtheta, dv, dw] between two camera views.
-Eigen::Matrix<double, 12, 1> cameraError(const PoseState& c, const PoseState& c0) {
-  Eigen::Matrix<double, 12, 1> e;
-  e << c.p - c0.p, logSO3(c0.q.toRotationMatrix().transpose() * c.q.toRotationMatrix()), c.v - c0.v, c.w - c0.w;
-  return e;
-}
-
 TEST(InertialModel, StepJacobianMatchesFiniteDifferences) {
   const EskfSettings s = inertialSettings();
   const auto m = makeMotionModel(s, sim::forwardCamera());
   ASSERT_EQ(m->poseDim(), kInertialDim);
-  const NominalState x = someState();
+  const NominalState x = sim::someState();
   for (double dt : {0.005, 0.1}) {
     const ImuSample imu{1.0, Vec3(0.9, -0.3, 1.4), Vec3(0.8, 9.4, -0.6)};
     NominalState y;
@@ -105,7 +84,7 @@ Eigen::Matrix<double, kInertialDim, 6> nullSpace(const NominalState& x, const Ve
 // when nothing moved the means.
 TEST(InertialModel, FirstEstimateTransitionKeepsTheNullSpace) {
   const auto m = makeMotionModel(inertialSettings(), sim::forwardCamera());
-  const NominalState lin = someState();  // predicted, before the update
+  const NominalState lin = sim::someState();  // predicted, before the update
   NominalState x = lin;                   // after the update
   Eigen::VectorXd dx = Eigen::VectorXd::Zero(kInertialDim);
   dx.segment<3>(kIdxP) = Vec3(0.01, -0.02, 0.015);
@@ -137,7 +116,7 @@ TEST(InertialModel, FirstEstimateTransitionKeepsTheNullSpace) {
 
 TEST(InertialModel, CameraJacobianMatchesFiniteDifferences) {
   const auto m = makeMotionModel(inertialSettings(), sim::forwardCamera());
-  const NominalState x = someState();
+  const NominalState x = sim::someState();
   const PoseState c0 = m->camera(x);
   const Eigen::MatrixXd T = m->cameraStateJacobian(x);
   ASSERT_EQ(T.rows(), 12);
@@ -150,7 +129,7 @@ TEST(InertialModel, CameraJacobianMatchesFiniteDifferences) {
     NominalState xp = x, xm = x;
     m->inject(&xp, d);
     m->inject(&xm, -d);
-    Tn.col(i) = (cameraError(m->camera(xp), c0) - cameraError(m->camera(xm), c0)) / (2 * h);
+    Tn.col(i) = (sim::cameraError(m->camera(xp), c0) - sim::cameraError(m->camera(xm), c0)) / (2 * h);
   }
   EXPECT_LT((Tn - T).cwiseAbs().maxCoeff(), 1e-7) << "\n" << Tn - T;
   // The camera pose follows the extrinsic: R_wc = R_wb R_bc, p_wc = p + R_wb p_bc.
@@ -174,7 +153,7 @@ TEST(InertialModel, ProcessNoiseMatchesMonteCarlo) {
   s.accel_random_walk = 0.01;
   s.gyro_random_walk = 0.001;
   const auto m = makeMotionModel(s, CameraExtrinsic());
-  const NominalState x0 = someState();
+  const NominalState x0 = sim::someState();
   const double dt = 0.005;
   const int steps = 40, runs = 3000;
   std::mt19937 rng(5);
@@ -350,7 +329,7 @@ TEST(GyroModel, StepJacobianMatchesFiniteDifferences) {
   s.motion_model = MotionModelKind::kGyro;
   const auto m = makeMotionModel(s, sim::forwardCamera());
   ASSERT_EQ(m->poseDim(), kGyroDim);
-  NominalState x = someState();
+  NominalState x = sim::someState();
   for (double dt : {0.005, 0.1}) {
     const ImuSample imu{1.0, Vec3(0.9, -0.3, 1.4), Vec3(0.8, 9.4, -0.6)};
     NominalState y;

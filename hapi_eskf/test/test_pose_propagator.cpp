@@ -76,7 +76,7 @@ TEST_P(PosePropagatorModels, EqualsTheFilterAfterTheSameImuSamples) {
   EXPECT_LT((prop.pose().v - eskf.pose().v).norm(), 1e-12);
   EXPECT_LT((prop.pose().w - eskf.pose().w).norm(), 1e-12);
   const PoseMat C = eskf.poseCovariance();
-  EXPECT_EQ(prop.covariance().rows(), hapi_eskf::poseDim(s.motion_model));
+  EXPECT_EQ(prop.covariance().rows(), hapi_eskf::poseDim(s));
   EXPECT_LT((prop.covariance() - C).norm(), 1e-12 * C.norm()) << prop.covariance() - C;
   const Mat12 Cc = eskf.cameraCovariance();
   EXPECT_LT((prop.cameraCovariance() - Cc).norm(), 1e-12 * Cc.norm());

@@ -335,6 +335,18 @@ int main(int argc, char** argv) {
     std::printf("motion model %s: %d frames waited for the gravity alignment, %d IMU samples rejected, "
                 "vision led in %d frames (scene moving in %d)\n",
                 toString(s.motion_model), awaiting, imu_rejected, vision_led, scene_moving);
+  const CalibrationEstimate calib = eskf.calibration();
+  if (calib.time_offset_valid)
+    std::printf("calibration: time offset %.3f ms (sigma %.3f ms, configured %.3f ms)\n", calib.time_offset * 1e3,
+                calib.time_offset_sigma * 1e3, s.imu_time_offset * 1e3);
+  if (calib.extrinsic_valid) {
+    constexpr double kDeg = 180.0 / M_PI;
+    const Vec3 dr = calib.rotation_change * kDeg, sr = calib.rotation_sigma * kDeg;
+    std::printf("calibration: rotation change %.4f %.4f %.4f deg (sigma %.4f %.4f %.4f), translation %.4f %.4f "
+                "%.4f m (sigma %.2f %.2f %.2f mm)\n",
+                dr.x(), dr.y(), dr.z(), sr.x(), sr.y(), sr.z(), calib.p_bc.x(), calib.p_bc.y(), calib.p_bc.z(),
+                calib.p_bc_sigma.x() * 1e3, calib.p_bc_sigma.y() * 1e3, calib.p_bc_sigma.z() * 1e3);
+  }
   if (est.size() < 3) { std::cerr << "too few poses\n"; return 1; }
   Mat3 R;
   Vec3 t;

@@ -24,14 +24,19 @@ using Mat9 = Eigen::Matrix<double, 9, 9>;
 // its block with [dp, dtheta], the only pose columns a measurement touches.
 //  * constant_velocity (camera state): [dp, dtheta, dv, dw], 12;
 //  * gyro (camera state and the gyro's bias): [dp, dtheta, dv, dw, dbg], 15;
-//  * inertial (IMU body state): [dp, dtheta, dv, dbg, dba, dg], 18.
+//  * inertial (IMU body state): [dp, dtheta, dv, dbg, dba, dg], 18, then
+//    the online calibration's rows when estimated (calibration_block.hpp):
+//    the camera-IMU extrinsic [dtheta_bc, dp_bc] (6) and the time offset
+//    [dt_d] (1), at most 18 + 7.
 // A modelled frame-shared vision error adds 6 spare rows after them
-// (frame_error_block.hpp): at most 18 + 6.
+// (frame_error_block.hpp): at most 18 + 7 + 6.
 constexpr int kCameraMotionDim = 12;
 constexpr int kGyroDim = 15;
 constexpr int kInertialDim = 18;
+constexpr int kCalibExtrinsicDim = 6;
+constexpr int kCalibTimeOffsetDim = 1;
 constexpr int kFrameErrorDim = 6;
-constexpr int kMaxPoseDim = kInertialDim + kFrameErrorDim;
+constexpr int kMaxPoseDim = kInertialDim + kCalibExtrinsicDim + kCalibTimeOffsetDim + kFrameErrorDim;
 constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;    // camera state
 constexpr int kIdxBg = 9, kIdxBa = 12, kIdxG = 15;               // inertial state
 constexpr int kIdxGyroBias = 12;                                  // gyro model's bias

@@ -51,6 +51,7 @@ Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> back
       backend_(std::move(backend)),
       model_(makeMotionModel(settings, extrinsic)),
       frame_error_(model_->poseDim(), settings),
+      calibration_(*model_),
       scene_motion_(settings),
       relocaliser_(settings) {
   // Construction never throws; a mismatch is reported by reset()/processFrame().
@@ -71,6 +72,8 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   const Status st = backend_->reset(frame_error_.covariance(model_->initialCovariance()));
   if (st != Status::kOk) return st;
   frame_error_.discard();
+  calibration_.discard();
+  held_imu_.clear();
   clearPendingPrediction();
   PoseState camera = initial;
   camera.q.normalize();
@@ -93,9 +96,24 @@ Status Eskf::setCameraExtrinsic(const CameraExtrinsic& extrinsic) {
   if (!isRotation(extrinsic.R_imu_cam)) return Status::kInvalidArgument;
   const PoseState camera = pose();
   model_ = makeMotionModel(settings_, extrinsic);
+  state_.R_bc = extrinsic.R_imu_cam;
+  state_.p_bc = extrinsic.p_imu_cam;
   model_->moveCameraTo(&state_, camera.p, camera.q);
   restartFirstEstimates();
-  return Status::kOk;
+  return restartExtrinsicPrior();
+}
+
+// The pending prediction steps commute with this transition: their F is
+// the identity on the calibration rows and zero between them and the rest.
+Status Eskf::restartExtrinsicPrior() {
+  const int e = model_->calibration().extrinsic;
+  if (e < 0 || !initialised_ || !backend_) return Status::kOk;
+  const int P = model_->poseDim();
+  PoseMat F = PoseMat::Identity(P, P), Q = PoseMat::Zero(P, P);
+  F.block(e, e, kCalibExtrinsicDim, kCalibExtrinsicDim).setZero();
+  Q.block(e, e, kCalibExtrinsicDim, kCalibExtrinsicDim) =
+      model_->initialCovariance().block(e, e, kCalibExtrinsicDim, kCalibExtrinsicDim);
+  return backend_->predict(frame_error_.transition(F), frame_error_.noise(Q));
 }
 
 // One transactional step of the model. The covariance part is deferred
@@ -144,7 +162,8 @@ void Eskf::clearPendingPrediction() {
 Status Eskf::predictTo(double stamp) {
   if (!initialised_) return Status::kNotInitialised;
   if (awaiting_alignment_) return Status::kAwaitingImu;
-  const Status st = predictStepTo(stamp, nullptr);
+  Status st = predictHeldImu(stamp);
+  if (st == Status::kOk) st = predictStepTo(stamp, nullptr);
   return st == Status::kOk ? flushPrediction() : st;
 }
 
@@ -160,8 +179,26 @@ Status Eskf::addImu(const ImuSample& sample) {
     if (sample.stamp - alignment_samples_.front().stamp >= settings_.alignment_window) return align();
     return Status::kOk;
   }
-  const Status st = predictStepTo(sample.stamp, &sample);
-  if (st == Status::kOk) scene_motion_.addImu(sample, state_.b_g);
+  ImuSample moved = model_->onEstimatedClock(sample, state_);
+  if (!held_imu_.empty()) moved.stamp = std::max(moved.stamp, held_imu_.back().stamp);
+  held_imu_.push_back(moved);
+  return predictHeldImu(sample.stamp);
+}
+
+// In order; a sample an offset correction moved before the filter time is
+// dropped (its interval was predicted with the previous sample). A failed
+// step drops its sample too (the state is unchanged by it).
+Status Eskf::predictHeldImu(double up_to) {
+  std::size_t n = 0;
+  Status st = Status::kOk;
+  while (n < held_imu_.size() && held_imu_[n].stamp <= up_to) {
+    const ImuSample& m = held_imu_[n++];
+    if (m.stamp < time_) continue;
+    st = predictStepTo(m.stamp, &m);
+    if (st != Status::kOk) break;
+    scene_motion_.addImu(m, state_.b_g);
+  }
+  held_imu_.erase(held_imu_.begin(), held_imu_.begin() + static_cast<std::ptrdiff_t>(n));
   return st;
 }
 
@@ -178,6 +215,8 @@ Status Eskf::align() {
   st = backend_->reset(frame_error_.covariance(start.C));
   if (st != Status::kOk) return st;
   frame_error_.discard();
+  calibration_.discard();
+  held_imu_.clear();
   clearPendingPrediction();
   state_ = start.x;
   restartFirstEstimates();
@@ -194,6 +233,12 @@ PoseMat Eskf::poseCovariance() const {
   if (!backend_) return PoseMat::Zero(model_->poseDim(), model_->poseDim());
   const PoseMat C = frame_error_.modelBlock(backend_->poseCovariance());
   return pending_steps_ ? predictPoseCovariance(C, pending_F_, pending_Q_) : C;
+}
+
+CalibrationEstimate Eskf::calibration() const {
+  PoseBlockState s;
+  if (!poseBlockState(&s)) return CalibrationEstimate();
+  return calibrationEstimate(model_->calibration(), s);
 }
 
 Mat12 Eskf::cameraCovariance() const { return hapi_eskf::cameraCovariance(*model_, state_, poseCovariance()); }
@@ -251,6 +296,9 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   Status st = admitFrame(frame_in);
   if (st != Status::kOk) return finishFrame(w, st, report);
   w.frame = &withRedetectionNoise(frame_in, &w.inflated);
+  // The samples held for the estimated time offset up to the frame.
+  st = predictHeldImu(frame_in.stamp);
+  if (st != Status::kOk) return finishFrame(w, st, report);
 
   // --- predict (from rest after an outage) ---
   st = predictFrame(w);
@@ -310,13 +358,16 @@ Status Eskf::predictFrame(FrameWork& w) {
     return st;
   }
   w.previous_stamp = relocaliser_.acceptFrame(stamp);
-  // From here to finishFrame() the first 6 pose columns are the pose this
-  // frame sees, with its shared vision error (frame_error_block.hpp).
-  return frame_error_.open(backend_.get(), model_->cameraJacobian(state_));
+  // From here to finishFrame() the first 6 pose columns are the camera's
+  // pose error (calibration_block.hpp) and the pose this frame sees, with
+  // its shared vision error (frame_error_block.hpp).
+  st = calibration_.open(backend_.get(), frame_error_, *model_, state_);
+  if (st != Status::kOk) return st;
+  return frame_error_.open(backend_.get(), frameCameraJacobian(state_));
 }
 
 Status Eskf::associateAtPose(FrameWork& w) const {
-  return associate(*w.frame, pose(), model_->cameraJacobian(state_), book_.positions(), *backend_, settings_,
+  return associate(*w.frame, pose(), frameCameraJacobian(state_), book_.positions(), *backend_, settings_,
                    &w.assoc);
 }
 
@@ -399,7 +450,7 @@ Status Eskf::updateFrame(FrameWork& w) {
   const std::vector<int> used_meas = LandmarkBook::chooseUpdates(w.assoc, w.by_response, settings_);
   w.used_slot.assign(numLandmarks(), 0);
   w.camera_predicted = pose();
-  w.J_predicted = model_->cameraJacobian(state_);
+  w.J_predicted = frameCameraJacobian(state_);
   w.frame_state = state_;
   const Status st = used_meas.empty() ? Status::kOk : fuse(w, used_meas);
   w.rep.t_update_ms = msSince(t0);
@@ -443,8 +494,8 @@ Status Eskf::fuse(FrameWork& w, const std::vector<int>& used_meas) {
     w.result = Status::kNotPositiveDefinite;
     return Status::kOk;
   }
-  model_->inject(&w.frame_state, frame_error_.framePoseCorrection(dx));
-  model_->inject(&state_, frame_error_.poseCorrection(dx));
+  model_->inject(&w.frame_state, calibration_.stateCorrection(frame_error_.framePoseCorrection(dx)));
+  model_->inject(&state_, calibration_.stateCorrection(frame_error_.poseCorrection(dx)));
   book_.correct(dx, backend_->poseDim());
   for (int i : used_meas) book_.observe(w.assoc.slot[i], w.frame->stamp, w.frame->measurements[i].rgb);
   w.rep.n_updated = static_cast<int>(used_meas.size());
@@ -493,7 +544,7 @@ Status Eskf::startLandmarks(FrameWork& w) {
   // First estimates: the Jacobians at the predicted pose, which also places
   // the landmark's first estimate; the mean from the corrected one.
   const PoseState& camera_lin = fej ? w.camera_predicted : camera;
-  const Mat6 J = fej ? w.J_predicted : model_->cameraJacobian(w.frame_state);
+  const Mat6 J = fej ? w.J_predicted : frameCameraJacobian(w.frame_state);
   std::vector<NewLandmarkBlock> blocks(w.n_add);
   for (int j = 0; j < w.n_add; ++j) {
     const int i = w.add_meas[j];
@@ -525,6 +576,8 @@ Status Eskf::finishFrame(FrameWork& w, Status s, IterationReport* report) {
   if (backend_) {
     const Status closed = frame_error_.close(backend_.get());
     if (s == Status::kOk) s = closed;
+    const Status restored = calibration_.close(backend_.get(), frame_error_);
+    if (s == Status::kOk) s = restored;
     const Status deferred = backend_->frameCompleted();
     if (s == Status::kOk) s = deferred;
   }

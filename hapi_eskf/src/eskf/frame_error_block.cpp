@@ -11,7 +11,7 @@ bool frameErrorModelled(const EskfSettings& s) {
 }
 
 int filterPoseDim(const EskfSettings& s) {
-  const int model_dim = poseDim(s.motion_model);
+  const int model_dim = poseDim(s);
   return frameErrorModelled(s) ? model_dim + kFrameErrorDim : model_dim;
 }
 

@@ -1,8 +1,11 @@
 // The inertial motion model (motion_model.hpp, docs/DESIGN.md "Inertial
 // prediction"): the IMU body state [p, theta, v, b_g, b_a, g] with the
 // standard quaternion ES-EKF step, and the left camera seen through the
-// camera-IMU extrinsic. Error convention as everywhere in the filter:
-//   p = p^ + dp, R = R^ Exp(dtheta), v = v^ + dv, b = b^ + db, g = g^ + dg.
+// camera-IMU extrinsic, with the online calibration's rows after them
+// (docs/DESIGN.md "Online calibration"). Error convention as everywhere in
+// the filter:
+//   p = p^ + dp, R = R^ Exp(dtheta), v = v^ + dv, b = b^ + db, g = g^ + dg,
+//   R_bc = R_bc^ Exp(dtheta_bc), p_bc = p_bc^ + dp_bc, t_d = t_d^ + dt_d.
 // Every Jacobian is checked against central finite differences in
 // test/test_motion_models.cpp.
 #include "hapi_eskf/eskf/motion_model.hpp"
@@ -16,23 +19,29 @@ using Mat12xP = Eigen::Matrix<double, 12, Eigen::Dynamic>;
 
 class InertialMotionModel final : public MotionModel {
  public:
-  InertialMotionModel(const EskfSettings& s, const CameraExtrinsic& e) : MotionModel(e), s_(s) {}
+  InertialMotionModel(const EskfSettings& s, const CameraExtrinsic& e)
+      : MotionModel(e), s_(s), calib_(calibrationLayout(s)), dim_(hapi_eskf::poseDim(s)) {}
 
   MotionModelKind kind() const override { return MotionModelKind::kInertial; }
-  int poseDim() const override { return kInertialDim; }
+  int poseDim() const override { return dim_; }
   bool usesImu() const override { return true; }
+  CalibrationLayout calibration() const override { return calib_; }
 
   // Body at rest under the camera, gravity straight down the world z axis
-  // (the alignment, inertial_alignment.hpp, sets the real start).
+  // (the alignment, inertial_alignment.hpp, sets the real start); the
+  // calibration at its configured prior.
   NominalState fromCamera(const PoseState& camera) const override {
     NominalState x;
+    x.R_bc = extrinsic_.R_imu_cam;
+    x.p_bc = extrinsic_.p_imu_cam;
+    x.t_d = s_.imu_time_offset;
     moveCameraTo(&x, camera.p, camera.q);
     x.g = Vec3(0, 0, -s_.gravity_magnitude);
     return x;
   }
 
   PoseMat initialCovariance() const override {
-    PoseMat C = PoseMat::Zero(kInertialDim, kInertialDim);
+    PoseMat C = PoseMat::Zero(dim_, dim_);
     auto var = [&](int idx, double sigma) { C.diagonal().segment<3>(idx).setConstant(sigma * sigma); };
     var(kIdxP, s_.initial_sigma_position);
     var(kIdxTheta, s_.initial_sigma_orientation);
@@ -40,6 +49,12 @@ class InertialMotionModel final : public MotionModel {
     var(kIdxBg, s_.initial_sigma_gyro_bias);
     var(kIdxBa, s_.initial_sigma_accel_bias);
     var(kIdxG, s_.initial_sigma_gravity);
+    if (calib_.extrinsic >= 0) {
+      var(calib_.extrinsic, s_.calib_extrinsic_rotation_sigma);
+      var(calib_.extrinsic + 3, s_.calib_extrinsic_translation_sigma);
+    }
+    if (calib_.time_offset >= 0)
+      C(calib_.time_offset, calib_.time_offset) = s_.calib_time_offset_sigma * s_.calib_time_offset_sigma;
     return C;
   }
 
@@ -47,8 +62,8 @@ class InertialMotionModel final : public MotionModel {
   // body's (w - b_g) in camera axes; its velocity adds the lever arm,
   // v_wc = v + R_wb (omega x p_bc).
   PoseState camera(const NominalState& x) const override {
-    const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = extrinsic_.R_imu_cam;
-    const Vec3& p_bc = extrinsic_.p_imu_cam;
+    const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = rotationBc(x);
+    const Vec3& p_bc = translationBc(x);
     const Vec3 omega = rate(x);
     PoseState c;
     c.q = (x.q * Eigen::Quaterniond(R_bc)).normalized();
@@ -63,11 +78,16 @@ class InertialMotionModel final : public MotionModel {
   // dv_c     = R_bc^T [R_wb^T v]x dtheta + R_bc^T R_wb^T dv + R_bc^T [p_bc]x db_g
   // dw_c     = -R_bc^T db_g
   // (without a sample the reported rate is 0, independent of b_g).
+  // Calibration columns (docs/DESIGN.md "Online calibration"):
+  //   dp_c = R_wb dp_bc,  dtheta_c = dtheta_bc,
+  //   dv_c = [v_c]x dtheta_bc + R_bc^T [omega]x dp_bc,  dw_c = [w_c]x dtheta_bc;
+  //   dt_d: dp_c = R_wc v_c dt_d, dtheta_c = w_c dt_d (the camera's motion
+  //   over the offset; its velocity's change is second order).
   Mat12xP cameraStateJacobian(const NominalState& x) const override {
-    const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = extrinsic_.R_imu_cam;
-    const Vec3& p_bc = extrinsic_.p_imu_cam;
+    const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = rotationBc(x);
+    const Vec3& p_bc = translationBc(x);
     const Mat3 Rcb = R_bc.transpose();
-    Mat12xP T = Mat12xP::Zero(12, kInertialDim);
+    Mat12xP T = Mat12xP::Zero(12, dim_);
     T.block<3, 3>(0, kIdxP).setIdentity();
     T.block<3, 3>(0, kIdxTheta) = -R_wb * skew(p_bc);
     T.block<3, 3>(3, kIdxTheta) = Rcb;
@@ -77,12 +97,34 @@ class InertialMotionModel final : public MotionModel {
       T.block<3, 3>(6, kIdxBg) = Rcb * skew(p_bc);
       T.block<3, 3>(9, kIdxBg) = -Rcb;
     }
+    if (!calib_.any()) return T;
+    const PoseState c = camera(x);
+    if (calib_.extrinsic >= 0) {
+      const int e = calib_.extrinsic;
+      T.block<3, 3>(0, e + 3) = R_wb;
+      T.block<3, 3>(3, e).setIdentity();
+      T.block<3, 3>(6, e) = skew(c.v);
+      T.block<3, 3>(6, e + 3) = Rcb * skew(rate(x));
+      T.block<3, 3>(9, e) = skew(c.w);
+    }
+    if (calib_.time_offset >= 0) {
+      T.block<3, 1>(0, calib_.time_offset) = c.q * c.v;
+      T.block<3, 1>(3, calib_.time_offset) = c.w;
+    }
     return T;
   }
 
   void moveCameraTo(NominalState* x, const Vec3& p, const Eigen::Quaterniond& q) const override {
-    x->q = (q * Eigen::Quaterniond(extrinsic_.R_imu_cam).conjugate()).normalized();
-    x->p = p - x->q.toRotationMatrix() * extrinsic_.p_imu_cam;
+    x->q = (q * Eigen::Quaterniond(rotationBc(*x)).conjugate()).normalized();
+    x->p = p - x->q.toRotationMatrix() * translationBc(*x);
+  }
+
+  // t_cam = t_imu - t_d; the sample came with t_imu - imu_time_offset.
+  ImuSample onEstimatedClock(const ImuSample& sample, const NominalState& x) const override {
+    if (calib_.time_offset < 0) return sample;
+    ImuSample out = sample;
+    out.stamp -= x.t_d - s_.imu_time_offset;
+    return out;
   }
 
   void stop(NominalState* x) const override { x->v.setZero(); }
@@ -131,7 +173,7 @@ class InertialMotionModel final : public MotionModel {
     next->q = (x.q * quatExp(omega * dt)).normalized();
 
     const Mat3 I = Mat3::Identity(), Ra = -R * skew(a), Jr = rightJacobianSO3(omega * dt);
-    *F = PoseMat::Identity(kInertialDim, kInertialDim);
+    *F = PoseMat::Identity(dim_, dim_);
     F->block<3, 3>(kIdxP, kIdxTheta) = Ra * dt2;
     F->block<3, 3>(kIdxP, kIdxV) = I * dt;
     F->block<3, 3>(kIdxP, kIdxBa) = -R * dt2;
@@ -144,7 +186,7 @@ class InertialMotionModel final : public MotionModel {
 
     const double na2 = s_.accel_noise_density * s_.accel_noise_density;
     const double ng2 = s_.gyroProcessNoiseDensity() * s_.gyroProcessNoiseDensity();
-    *Q = PoseMat::Zero(kInertialDim, kInertialDim);
+    *Q = PoseMat::Zero(dim_, dim_);
     Q->block<3, 3>(kIdxP, kIdxP) = I * (na2 * dt * dt * dt / 4.0);
     Q->block<3, 3>(kIdxP, kIdxV) = I * (na2 * dt * dt / 2.0);
     Q->block<3, 3>(kIdxV, kIdxP) = I * (na2 * dt * dt / 2.0);
@@ -182,23 +224,43 @@ class InertialMotionModel final : public MotionModel {
     x->b_g += dx.segment<3>(kIdxBg);
     x->b_a += dx.segment<3>(kIdxBa);
     x->g += dx.segment<3>(kIdxG);
+    if (calib_.extrinsic >= 0) {
+      x->R_bc = Eigen::Quaterniond(x->R_bc * expSO3(dx.segment<3>(calib_.extrinsic))).normalized().toRotationMatrix();
+      x->p_bc += dx.segment<3>(calib_.extrinsic + 3);
+    }
+    if (calib_.time_offset >= 0) x->t_d += dx(calib_.time_offset);
   }
 
   Eigen::VectorXd errorBetween(const NominalState& x, const NominalState& x_hat) const override {
-    Eigen::VectorXd e(kInertialDim);
+    Eigen::VectorXd e(dim_);
     e.segment<3>(kIdxP) = x.p - x_hat.p;
     e.segment<3>(kIdxTheta) = logSO3((x_hat.q.conjugate() * x.q).toRotationMatrix());
     e.segment<3>(kIdxV) = x.v - x_hat.v;
     e.segment<3>(kIdxBg) = x.b_g - x_hat.b_g;
     e.segment<3>(kIdxBa) = x.b_a - x_hat.b_a;
     e.segment<3>(kIdxG) = x.g - x_hat.g;
+    if (calib_.extrinsic >= 0) {
+      e.segment<3>(calib_.extrinsic) = logSO3(x_hat.R_bc.transpose() * x.R_bc);
+      e.segment<3>(calib_.extrinsic + 3) = x.p_bc - x_hat.p_bc;
+    }
+    if (calib_.time_offset >= 0) e(calib_.time_offset) = x.t_d - x_hat.t_d;
     return e;
   }
 
  private:
   static Vec3 rate(const NominalState& x) { return x.has_imu ? Vec3(x.w - x.b_g) : Vec3::Zero(); }
+  // The extrinsic camera(x) uses: the state's when calibrated, else the
+  // configured one.
+  const Mat3& rotationBc(const NominalState& x) const {
+    return calib_.extrinsic >= 0 ? x.R_bc : extrinsic_.R_imu_cam;
+  }
+  const Vec3& translationBc(const NominalState& x) const {
+    return calib_.extrinsic >= 0 ? x.p_bc : extrinsic_.p_imu_cam;
+  }
 
   EskfSettings s_;
+  CalibrationLayout calib_;
+  int dim_;
 };
 
 }  // namespace

@@ -17,10 +17,24 @@ std::unique_ptr<MotionModel> makeMotionModel(const EskfSettings& s, const Camera
   return makeConstantVelocityMotionModel(s, extrinsic);
 }
 
-int poseDim(MotionModelKind kind) {
-  switch (kind) {
+CalibrationLayout calibrationLayout(const EskfSettings& s) {
+  CalibrationLayout l;
+  // The ES-EKF's; the SEIF's information-form motion update and the other
+  // back ends (no inertial pose block) do not estimate it.
+  if (s.motion_model != MotionModelKind::kInertial || s.backend_algorithm != BackendAlgorithm::kEskf) return l;
+  int row = kInertialDim;
+  if (s.calib_cam_extrinsics) {
+    l.extrinsic = row;
+    row += kCalibExtrinsicDim;
+  }
+  if (s.calib_cam_timeoffset) l.time_offset = row;
+  return l;
+}
+
+int poseDim(const EskfSettings& s) {
+  switch (s.motion_model) {
     case MotionModelKind::kInertial:
-      return kInertialDim;
+      return kInertialDim + calibrationLayout(s).dim();
     case MotionModelKind::kGyro:
       return kGyroDim;
     case MotionModelKind::kConstantVelocity:

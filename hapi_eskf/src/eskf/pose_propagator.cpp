@@ -64,7 +64,11 @@ Status PosePropagator::step(const ImuSample& sample) {
     time_ = sample.stamp;
     return Status::kOk;
   }
-  return predictStep(*model_, &x_, &time_, sample.stamp, &sample, [this](const PoseMat& F, const PoseMat& Q) {
+  // The filter's clock rule (Eskf::addImu): the estimated offset's clock;
+  // a sample moved before the output's time is dropped.
+  const ImuSample moved = model_->onEstimatedClock(sample, x_);
+  if (sample.stamp >= time_ && moved.stamp < time_) return Status::kOk;
+  return predictStep(*model_, &x_, &time_, moved.stamp, &moved, [this](const PoseMat& F, const PoseMat& Q) {
     C_ = predictPoseCovariance(C_, F, Q);
     return Status::kOk;
   });

@@ -109,6 +109,15 @@ void EskfNodelet::onInit() {
                toString(params_.filter.motion_model), params_.world_frame.c_str(),
                camera_frame_.empty() ? "(from first message)" : camera_frame_.c_str(), params_.base_frame.c_str(),
                params_.usesImu() ? params_.imu_topic.c_str() : "off");
+  const CalibrationLayout calib = calibrationLayout(params_.filter);
+  if (params_.filter.motion_model == MotionModelKind::kInertial &&
+      (params_.filter.calib_cam_extrinsics || params_.filter.calib_cam_timeoffset) && !calib.any())
+    NODELET_WARN("calib_cam_extrinsics / calib_cam_timeoffset ignored: backend_algorithm %s does not estimate the "
+                 "calibration (the configured extrinsic and imu_time_offset are used as they are)",
+                 toString(params_.filter.backend_algorithm));
+  else if (calib.any())
+    NODELET_INFO("online calibration: extrinsic %s, time offset %s (docs/DESIGN.md \"Online calibration\")",
+                 calib.extrinsic >= 0 ? "on" : "off", calib.time_offset >= 0 ? "on" : "off");
 }
 
 bool EskfNodelet::checkStartup() {
@@ -406,6 +415,9 @@ bool EskfNodelet::process(Work& w) {
     NODELET_WARN_THROTTLE(1.0, "update skipped at %.3f (innovation covariance not PD): prediction only", stamp);
   }
   stats_->recordFrame(rep, backend_->numLandmarks(), backend_->memoryBytes());
+  PoseBlockState pose_block;
+  if (backend_->poseBlockState(&pose_block))
+    stats_->recordCalibration(calibrationEstimate(calibrationLayout(params_.filter), pose_block));
   last_stamp_ = w.stamp;
   const ros_glue::CameraInMap T_map_cam =
       output_->publishFrame(w.stamp, w.frame_id, *backend_, rep.scene_moving);

@@ -3,6 +3,7 @@
 #include "hapi_eskf/ros/statistics.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace hapi_eskf {
 namespace ros_glue {
@@ -26,6 +27,11 @@ void NodeletStatistics::recordBackend(const std::string& name, std::size_t memor
 void NodeletStatistics::recordFilterError(const std::string& what) {
   std::lock_guard<std::mutex> lk(mu_);
   last_filter_error_ = what;
+}
+
+void NodeletStatistics::recordCalibration(const CalibrationEstimate& c) {
+  std::lock_guard<std::mutex> lk(mu_);
+  calibration_ = c;
 }
 
 void NodeletStatistics::recordStop(const std::string& why) {
@@ -62,6 +68,7 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   std::string backend, last_error, stopped;
   std::size_t memory;
   int landmarks;
+  CalibrationEstimate calib;
   {
     std::lock_guard<std::mutex> lk(mu_);
     s = stages_;
@@ -69,6 +76,7 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     backend = backend_name_;
     memory = backend_memory_;
     landmarks = n_landmarks_;
+    calib = calibration_;
     last_error = last_filter_error_;
     stopped = stopped_;
   }
@@ -162,6 +170,30 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     stat.add("frames_awaiting_imu", awaiting);
     stat.add("frames_vision_led", vision_led);
     stat.add("frames_scene_moving", scene_moving);
+  }
+  addCalibration(stat, calib);
+}
+
+// The online calibration's estimates with their 1 sigma (docs/DESIGN.md
+// "Online calibration"): the time offset, the rotation's change from the
+// configured one (rotation vector, camera axes) and the translation.
+void NodeletStatistics::addCalibration(diagnostic_updater::DiagnosticStatusWrapper& stat,
+                                       const CalibrationEstimate& c) {
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  auto vec = [](const Vec3& v, double scale) {
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), "%.4f %.4f %.4f", v.x() * scale, v.y() * scale, v.z() * scale);
+    return std::string(buf);
+  };
+  if (c.time_offset_valid) {
+    stat.add("calib_time_offset_ms", c.time_offset * 1e3);
+    stat.add("calib_time_offset_sigma_ms", c.time_offset_sigma * 1e3);
+  }
+  if (c.extrinsic_valid) {
+    stat.add("calib_rotation_change_deg", vec(c.rotation_change, kDeg));
+    stat.add("calib_rotation_sigma_deg", vec(c.rotation_sigma, kDeg));
+    stat.add("calib_translation_m", vec(c.p_bc, 1.0));
+    stat.add("calib_translation_sigma_mm", vec(c.p_bc_sigma, 1e3));
   }
 }
 

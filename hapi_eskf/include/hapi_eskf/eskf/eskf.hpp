@@ -21,6 +21,7 @@
 #include "hapi_eskf/backend/relocaliser.hpp"
 #include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/eskf/calibration_block.hpp"
 #include "hapi_eskf/eskf/frame_error_block.hpp"
 #include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/eskf/scene_motion_monitor.hpp"
@@ -55,8 +56,9 @@ class Eskf final : public SlamBackend {
   Status reset(const PoseState& initial, double stamp) override;
 
   // The camera in the IMU frame. The camera pose is kept (the inertial
-  // model's body pose moves with the new extrinsic). kNonFinite,
-  // kInvalidArgument (R not a rotation).
+  // model's body pose moves with the new extrinsic); a calibrated extrinsic
+  // restarts from it as its prior (docs/DESIGN.md "Online calibration").
+  // kNonFinite, kInvalidArgument (R not a rotation).
   Status setCameraExtrinsic(const CameraExtrinsic& extrinsic) override;
 
   // Prediction without a new IMU sample to `stamp` (no-op when stamp ==
@@ -65,7 +67,8 @@ class Eskf final : public SlamBackend {
   Status predictTo(double stamp) override;
 
   // One IMU sample (IMU frame, stamp on the camera clock:
-  // imuSampleOnCameraClock). Its covariance step is chained with the other
+  // imuSampleOnCameraClock; with the time offset calibrated, the filter
+  // moves it to the estimated offset's clock, MotionModel::onEstimatedClock). Its covariance step is chained with the other
   // samples' and reaches the backend with the next frame or predictTo()
   // (poseCovariance() includes it at once). constant_velocity: kInvalidArgument (no IMU in
   // the model). gyro and inertial: a prediction step to the sample's stamp
@@ -97,6 +100,8 @@ class Eskf final : public SlamBackend {
   Mat6 cameraPoseCovariance() const override { return cameraCovariance().topLeftCorner<6, 6>(); }
   // The motion model's pose block of the state covariance (P x P).
   PoseMat poseCovariance() const;
+  // The online calibration as estimated (calibration_block.hpp).
+  CalibrationEstimate calibration() const;
   const NominalState& state() const { return state_; }
   const MotionModel& motionModel() const { return *model_; }
   bool awaitingAlignment() const { return awaiting_alignment_; }
@@ -146,6 +151,8 @@ class Eskf final : public SlamBackend {
   // Every exit: closes the frame's backend work and hands out the report.
   Status finishFrame(FrameWork& w, Status s, IterationReport* report);
   Status predictStepTo(double stamp, const ImuSample* imu);
+  // The held IMU samples (held_imu_) with stamps up to `up_to`, in order.
+  Status predictHeldImu(double up_to);
   Status flushPrediction();  // the chained steps into the backend's C
   void clearPendingPrediction();
   // First estimates of the pose block (settings first_estimate_jacobians):
@@ -155,11 +162,17 @@ class Eskf final : public SlamBackend {
   void restartFirstEstimates() { lin_ = state_; }
   void advanceFirstEstimates();
   Status align();
+  // The camera Jacobian of the pose block's first 6 columns as they are now
+  // (the identity while the calibration's transition is open).
+  Mat6 frameCameraJacobian(const NominalState& x) const { return calibration_.cameraJacobian(*model_, x); }
+  // The extrinsic rows of the covariance back to their prior, uncorrelated.
+  Status restartExtrinsicPrior();
 
   EskfSettings settings_;
   std::unique_ptr<CovarianceBackend> backend_;
   std::unique_ptr<MotionModel> model_;
   FrameErrorBlock frame_error_;
+  CalibrationBlock calibration_;
   NominalState state_;
   PoseState frame_camera_;  // frameCamera()
   // The pose block's first estimates (docs/DESIGN.md "First-estimate
@@ -175,6 +188,11 @@ class Eskf final : public SlamBackend {
   // Inertial model: samples collected for the gravity alignment until it is done.
   bool awaiting_alignment_ = false;
   std::vector<ImuSample> alignment_samples_;
+  // Samples on the estimated offset's clock (MotionModel::onEstimatedClock)
+  // not yet predicted with: one the offset moved later than its configured
+  // stamp waits until a sample or frame at least as late arrives, since the
+  // caller hands in every sample up to a frame's stamp before the frame.
+  std::vector<ImuSample> held_imu_;
   bool velocity_measured_ = false;  // PoseBlockState::velocity_measured
   SceneMotionMonitor scene_motion_;
   Relocaliser relocaliser_;

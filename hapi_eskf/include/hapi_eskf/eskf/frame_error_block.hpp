@@ -42,7 +42,7 @@ namespace hapi_eskf {
 bool frameErrorModelled(const EskfSettings& s);
 
 // The backend's pose block for the settings: the motion model's
-// (poseDim(s.motion_model)), plus kFrameErrorDim spare rows when the
+// (poseDim(s)), plus kFrameErrorDim spare rows when the
 // settings model a frame error.
 int filterPoseDim(const EskfSettings& s);
 

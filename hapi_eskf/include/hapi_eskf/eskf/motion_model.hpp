@@ -13,7 +13,9 @@
 //  * inertial: the IMU body state [p, theta, v, b_g, b_a, g] (18), v in the
 //    world frame, propagated with gyro and accelerometer (the standard
 //    quaternion ES-EKF); the camera pose follows through the camera-IMU
-//    extrinsic.
+//    extrinsic; with online calibration (settings calib_cam_*) the
+//    extrinsic [dtheta_bc, dp_bc] (6) and the time offset [dt_d] (1) follow
+//    as states (docs/DESIGN.md "Online calibration").
 #pragma once
 
 #include "hapi_eskf/settings.hpp"
@@ -33,7 +35,10 @@ namespace hapi_eskf {
 //    b_g, b_a = gyro and accelerometer biases; g = gravity in the world;
 //    w, f = the last gyro and accelerometer sample as read (body frame, not
 //    states: held over a step without a new sample, and w - b_g is the
-//    angular rate of the twist output).
+//    angular rate of the twist output);
+//    R_bc, p_bc, t_d = the camera-IMU extrinsic (CameraExtrinsic's) and the
+//    time offset (imu_time_offset's meaning) as estimated: states when
+//    calibrated (CalibrationLayout), else the configured values, unused.
 struct NominalState {
   Vec3 p = Vec3::Zero();
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
@@ -42,14 +47,28 @@ struct NominalState {
   Vec3 b_g = Vec3::Zero(), b_a = Vec3::Zero(), g = Vec3::Zero();
   Vec3 f = Vec3::Zero();
   bool has_imu = false;  // inertial: w and f hold a sample
+  Mat3 R_bc = Mat3::Identity();
+  Vec3 p_bc = Vec3::Zero();
+  double t_d = 0.0;  // [s]
 };
+
+// Where the online calibration's rows sit in the pose block (-1: not
+// estimated). Only the inertial model of the ES-EKF calibrates, after its
+// 18 rows; not over the SEIF's storage (its information-form motion update).
+struct CalibrationLayout {
+  int extrinsic = -1;    // [dtheta_bc, dp_bc]: R_bc = R_bc^ Exp(dtheta_bc), p_bc = p_bc^ + dp_bc
+  int time_offset = -1;  // [dt_d]: t_d = t_d^ + dt_d
+  bool any() const { return extrinsic >= 0 || time_offset >= 0; }
+  int dim() const { return (extrinsic >= 0 ? kCalibExtrinsicDim : 0) + (time_offset >= 0 ? kCalibTimeOffsetDim : 0); }
+};
+CalibrationLayout calibrationLayout(const EskfSettings& s);
 
 // The pose-block state an IMU-rate output continues from between frames
 // (pose_propagator.hpp, SlamBackend::poseBlockState): back ends whose motion model predicts with the IMU.
 struct PoseBlockState {
   CameraExtrinsic extrinsic;
   NominalState x;
-  PoseMat C;  // pose block covariance (P x P, P = poseDim(motion_model))
+  PoseMat C;  // pose block covariance (P x P, P = poseDim(settings))
   double time = 0.0;
   // The velocity in x is measured: a frame updated against the map since
   // the filter last set it to rest as a guess (a start while moving, a
@@ -63,6 +82,7 @@ class MotionModel {
   virtual MotionModelKind kind() const = 0;
   virtual int poseDim() const = 0;
   virtual bool usesImu() const = 0;
+  virtual CalibrationLayout calibration() const { return CalibrationLayout(); }
 
   // The state at the start, from the camera pose (p, q; v, w as given for
   // the camera models, zero otherwise) and, for the inertial model, the
@@ -71,13 +91,17 @@ class MotionModel {
   virtual NominalState fromCamera(const PoseState& camera) const = 0;
   // The covariance of that state (the initial_sigma_* settings).
   virtual PoseMat initialCovariance() const = 0;
-  // initialCovariance() without the [dp, dtheta] rows and columns: added to
-  // C when the motion states (velocities, biases, gravity) turn out
-  // inconsistent with vision, so that the next updates estimate them afresh.
+  // initialCovariance() without the [dp, dtheta] and calibration rows and
+  // columns: added to C when the motion states (velocities, biases,
+  // gravity) turn out inconsistent with vision, so that the next updates
+  // estimate them afresh.
   PoseMat motionStatesPrior() const {
     PoseMat C = initialCovariance();
     C.topRows(6).setZero();
     C.leftCols(6).setZero();
+    const int n_calib = calibration().dim();
+    C.bottomRows(n_calib).setZero();
+    C.rightCols(n_calib).setZero();
     return C;
   }
 
@@ -86,7 +110,10 @@ class MotionModel {
   virtual PoseState camera(const NominalState& x) const = 0;
   // d(camera error [dp, dtheta, dv, dw] of camera(x), in the camera models'
   // convention) / d(state error), 12 x P: maps the state covariance to the
-  // camera's for the outputs (odometry pose and twist covariance).
+  // camera's for the outputs (odometry pose and twist covariance). A
+  // calibrated time offset's column is the camera's motion over dt_d: its
+  // world velocity and its angular rate (the pose rows; docs/DESIGN.md
+  // "Online calibration"), not a change of camera(x).
   virtual Eigen::Matrix<double, 12, Eigen::Dynamic> cameraStateJacobian(const NominalState& x) const = 0;
   // Its [dp, dtheta] block (6 x 6; the camera pose depends on the state pose
   // only): the pose columns of a measurement or new-landmark Jacobian are
@@ -94,6 +121,13 @@ class MotionModel {
   Mat6 cameraJacobian(const NominalState& x) const { return cameraStateJacobian(x).leftCols<6>().topRows<6>(); }
   // Means moved so that camera(x) has pose (p, q) (relocalisation).
   virtual void moveCameraTo(NominalState* x, const Vec3& p, const Eigen::Quaterniond& q) const = 0;
+  // A sample as the filter takes it (stamp on the camera clock with the
+  // configured imu_time_offset, imuSampleOnCameraClock) moved to the
+  // camera clock of the estimated offset x.t_d when it is calibrated.
+  virtual ImuSample onEstimatedClock(const ImuSample& sample, const NominalState& x) const {
+    (void)x;
+    return sample;
+  }
   // Velocity means zeroed (the motion since an outage is unknown).
   virtual void stop(NominalState* x) const = 0;
   // The camera turned out to be dp_world [m, world frame] away from where
@@ -134,7 +168,8 @@ class MotionModel {
 // The model of s.motion_model with the camera-IMU extrinsic (ignored by
 // constant_velocity; gyro uses its rotation only).
 std::unique_ptr<MotionModel> makeMotionModel(const EskfSettings& s, const CameraExtrinsic& extrinsic);
-int poseDim(MotionModelKind kind);
+// The pose block of the settings' motion model, calibration rows included.
+int poseDim(const EskfSettings& s);
 
 // The camera's covariance [dp, dtheta, dv, dw] (12 x 12) from the pose
 // block's C (P x P): T C T^T with T = model.cameraStateJacobian(x),

@@ -8,6 +8,7 @@
 // report's values are the diagnostics timer's own.
 #pragma once
 
+#include "hapi_eskf/eskf/calibration_block.hpp"
 #include "hapi_eskf/ros/validation.hpp"
 #include "hapi_eskf/types.hpp"
 
@@ -61,6 +62,8 @@ class NodeletStatistics {
   void recordFrame(const IterationReport& report, int n_landmarks, std::size_t backend_memory);
   void recordBackend(const std::string& name, std::size_t memory);
   void recordFilterError(const std::string& what);
+  // The online calibration after a frame (calibration_block.hpp).
+  void recordCalibration(const CalibrationEstimate& c);
   // The filter stopped for good (reported as ERROR from now on).
   void recordStop(const std::string& why);
   // A frame's correction reached the outputs `seconds` after its image was
@@ -76,6 +79,7 @@ class NodeletStatistics {
                 std::uint64_t input_resubscriptions);
 
  private:
+  static void addCalibration(diagnostic_updater::DiagnosticStatusWrapper& stat, const CalibrationEstimate& c);
   // Sums of the per-stage figures since the last report.
   struct StageStats {
     int n = 0;
@@ -91,6 +95,7 @@ class NodeletStatistics {
   std::string backend_name_ = "none (waiting for the first frame)";
   std::size_t backend_memory_ = 0;
   int n_landmarks_ = 0;
+  CalibrationEstimate calibration_;
   // Counter values and time of the previous report (for the rates);
   // diagnostics timer only.
   std::uint64_t prev_outputs_ = 0, prev_accepted_ = 0, prev_processed_ = 0, prev_rejected_ = 0, prev_dropped_ = 0,

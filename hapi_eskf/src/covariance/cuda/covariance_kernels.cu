@@ -290,12 +290,18 @@ cudaError_t launchCountNonFinite(const T* x, std::size_t count, int* flag, cudaS
 template <typename T>
 cudaError_t launchPredict(T* C, std::size_t ld, int n, int pose_dim, const double* F, const double* Q,
                           cudaStream_t stream) {
-  // The pose block sizes of the motion models (types.hpp), unrolled each.
+  // The pose block sizes of the motion models (types.hpp: 12, 15, 18, the
+  // inertial model's calibration rows 19, 24, 25, each + 6 with the frame
+  // error), unrolled each; P * P <= 1024 threads of one block.
   if (pose_dim == 12) return launchPredictP<T, 12>(C, ld, n, F, Q, stream);
   if (pose_dim == 15) return launchPredictP<T, 15>(C, ld, n, F, Q, stream);
   if (pose_dim == 18) return launchPredictP<T, 18>(C, ld, n, F, Q, stream);
   if (pose_dim == 21) return launchPredictP<T, 21>(C, ld, n, F, Q, stream);
   if (pose_dim == 24) return launchPredictP<T, 24>(C, ld, n, F, Q, stream);
+  if (pose_dim == 19) return launchPredictP<T, 19>(C, ld, n, F, Q, stream);
+  if (pose_dim == 25) return launchPredictP<T, 25>(C, ld, n, F, Q, stream);
+  if (pose_dim == 30) return launchPredictP<T, 30>(C, ld, n, F, Q, stream);
+  if (pose_dim == 31) return launchPredictP<T, 31>(C, ld, n, F, Q, stream);
   return cudaErrorInvalidValue;
 }
 

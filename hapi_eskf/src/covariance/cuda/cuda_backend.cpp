@@ -83,14 +83,19 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
     *err = "CUDA backend: capacity and descriptor length must be >= 0";
     return nullptr;
   }
-  // The pose blocks of the motion models, with or without the frame-error
-  // rows: the sizes covariance_kernels.cu unrolls.
+  // The pose blocks of the motion models (with the inertial model's
+  // calibration rows), with or without the frame-error rows: the sizes
+  // covariance_kernels.cu unrolls.
   bool model_dim = false;
-  for (int m : {kCameraMotionDim, kGyroDim, kInertialDim}) model_dim |= pose_dim == m || pose_dim == m + kFrameErrorDim;
+  for (int m : {kCameraMotionDim, kGyroDim, kInertialDim, kInertialDim + kCalibTimeOffsetDim,
+                kInertialDim + kCalibExtrinsicDim, kInertialDim + kCalibExtrinsicDim + kCalibTimeOffsetDim})
+    model_dim |= pose_dim == m || pose_dim == m + kFrameErrorDim;
   if (!model_dim) {
     *err = "CUDA backend: pose block must have the rows of a motion model (" + std::to_string(kCameraMotionDim) +
-           ", " + std::to_string(kGyroDim) + " or " + std::to_string(kInertialDim) + ", + " +
-           std::to_string(kFrameErrorDim) + " with the frame error), got " + std::to_string(pose_dim);
+           ", " + std::to_string(kGyroDim) + " or " + std::to_string(kInertialDim) + " + " +
+           std::to_string(kCalibExtrinsicDim) + " and/or " + std::to_string(kCalibTimeOffsetDim) +
+           " calibration rows, + " + std::to_string(kFrameErrorDim) + " with the frame error), got " +
+           std::to_string(pose_dim);
     return nullptr;
   }
   std::string info;
