@@ -8,50 +8,23 @@
 // the filter would take it for a rotation the frames keep contradicting.
 // The bias starts at zero with initial_sigma_gyro_bias and random-walks with
 // gyro_random_walk; the frames' rotations determine it.
-#include "hapi_eskf/backend/pose_kinematics.hpp"
-#include "hapi_eskf/eskf/motion_model.hpp"
 #include "motion_models.hpp"
-#include "hapi_eskf/so3.hpp"
 
 namespace hapi_eskf {
 namespace {
 
-class GyroMotionModel final : public MotionModel {
+class GyroMotionModel final : public CameraStateMotionModel {
  public:
-  GyroMotionModel(const EskfSettings& s, const CameraExtrinsic& e) : MotionModel(e), s_(s) {}
+  using CameraStateMotionModel::CameraStateMotionModel;
 
   MotionModelKind kind() const override { return MotionModelKind::kGyro; }
   int poseDim() const override { return kGyroDim; }
   bool usesImu() const override { return true; }
 
-  NominalState fromCamera(const PoseState& camera) const override {
-    NominalState x;
-    fromPose(camera, &x);
-    return x;
-  }
-
   PoseMat initialCovariance() const override {
-    PoseMat C = cameraStateInitialCovariance(s_, kGyroDim);
+    PoseMat C = cameraStateCovariance();
     C.diagonal().segment<3>(kIdxGyroBias).setConstant(s_.initial_sigma_gyro_bias * s_.initial_sigma_gyro_bias);
     return C;
-  }
-
-  PoseState camera(const NominalState& x) const override { return toPose(x); }
-  Eigen::Matrix<double, 12, Eigen::Dynamic> cameraStateJacobian(const NominalState&) const override {
-    return Eigen::Matrix<double, 12, Eigen::Dynamic>::Identity(12, kGyroDim);
-  }
-
-  void moveCameraTo(NominalState* x, const Vec3& p, const Eigen::Quaterniond& q) const override {
-    x->p = p;
-    x->q = q.normalized();
-  }
-  void stop(NominalState* x) const override {
-    x->v.setZero();
-    x->w.setZero();
-  }
-  // v is the camera-frame velocity.
-  void correctVelocity(NominalState* x, const Vec3& dp_world, double dt) const override {
-    x->v += x->q.conjugate() * dp_world / dt;
   }
 
   // With a sample: gyroStep (backend/pose_kinematics.hpp) with the
@@ -83,24 +56,15 @@ class GyroMotionModel final : public MotionModel {
   }
 
   void inject(NominalState* x, const Eigen::Ref<const Eigen::VectorXd>& dx) const override {
-    PoseState p = toPose(*x);
-    injectPose(&p, dx.head<12>());
-    fromPose(p, x);
+    injectCameraState(x, dx);
     x->b_g += dx.segment<3>(kIdxGyroBias);
   }
 
   Eigen::VectorXd errorBetween(const NominalState& x, const NominalState& x_hat) const override {
-    Eigen::VectorXd e(kGyroDim);
-    e.segment<3>(kIdxP) = x.p - x_hat.p;
-    e.segment<3>(kIdxTheta) = logSO3((x_hat.q.conjugate() * x.q).toRotationMatrix());
-    e.segment<3>(kIdxV) = x.v - x_hat.v;
-    e.segment<3>(kIdxW) = x.w - x_hat.w;
+    Eigen::VectorXd e = cameraStateError(x, x_hat);
     e.segment<3>(kIdxGyroBias) = x.b_g - x_hat.b_g;
     return e;
   }
-
- private:
-  EskfSettings s_;
 };
 
 }  // namespace
