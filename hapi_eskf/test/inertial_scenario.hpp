@@ -134,6 +134,33 @@ inline Eigen::Matrix<double, 12, 1> cameraError(const PoseState& c, const PoseSt
   return e;
 }
 
+// d f(x (+) d) / d by central differences over the model's error state
+// (rows: f's length, P columns).
+template <typename Function>
+Eigen::MatrixXd centralDifferences(const MotionModel& m, const NominalState& x, int rows, Function f) {
+  const int P = m.poseDim();
+  Eigen::MatrixXd J(rows, P);
+  const double h = 1e-6;
+  for (int i = 0; i < P; ++i) {
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(P);
+    d(i) = h;
+    NominalState xp = x, xm = x;
+    m.inject(&xp, d);
+    m.inject(&xm, -d);
+    J.col(i) = (f(xp) - f(xm)) / (2 * h);
+  }
+  return J;
+}
+
+// d(camera error of m.camera(x (+) d)) / d, 12 x P: the numeric counterpart
+// of MotionModel::cameraStateJacobian.
+inline Eigen::MatrixXd numericCameraStateJacobian(const MotionModel& m, const NominalState& x) {
+  const PoseState c0 = m.camera(x);
+  return centralDifferences(m, x, 12, [&](const NominalState& xi) -> Eigen::VectorXd {
+    return cameraError(m.camera(xi), c0);
+  });
+}
+
 // A random SPD matrix (n x n) for covariance tests.
 inline Eigen::MatrixXd randomCovariance(int n, unsigned seed) {
   std::mt19937 rng(seed);

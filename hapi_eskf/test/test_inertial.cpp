@@ -28,24 +28,15 @@ EskfSettings inertialSettings() {
 
 // d errorBetween(step(x (+) d), step(x)) / d, by central differences.
 Eigen::MatrixXd numericStepJacobian(const MotionModel& m, const NominalState& x, double dt, const ImuSample& imu) {
-  const int P = m.poseDim();
-  NominalState y0, y;
+  NominalState y0;
   PoseMat F, Q;
   m.step(x, dt, &imu, &y0, &F, &Q);
-  Eigen::MatrixXd J(P, P);
-  const double h = 1e-6;
-  for (int i = 0; i < P; ++i) {
-    Eigen::VectorXd d = Eigen::VectorXd::Zero(P);
-    d(i) = h;
-    NominalState xp = x, xm = x;
-    m.inject(&xp, d);
-    m.inject(&xm, -d);
-    NominalState yp, ym;
-    m.step(xp, dt, &imu, &yp, &F, &Q);
-    m.step(xm, dt, &imu, &ym, &F, &Q);
-    J.col(i) = (m.errorBetween(yp, y0) - m.errorBetween(ym, y0)) / (2 * h);
-  }
-  return J;
+  return sim::centralDifferences(m, x, m.poseDim(), [&](const NominalState& xi) -> Eigen::VectorXd {
+    NominalState y;
+    PoseMat Fi, Qi;
+    m.step(xi, dt, &imu, &y, &Fi, &Qi);
+    return m.errorBetween(y, y0);
+  });
 }
 
 // A model's step transition at sim::someState() against central differences,
@@ -123,24 +114,14 @@ TEST(InertialModel, FirstEstimateTransitionKeepsTheNullSpace) {
 TEST(InertialModel, CameraJacobianMatchesFiniteDifferences) {
   const auto m = makeMotionModel(inertialSettings(), sim::forwardCamera());
   const NominalState x = sim::someState();
-  const PoseState c0 = m->camera(x);
   const Eigen::MatrixXd T = m->cameraStateJacobian(x);
   ASSERT_EQ(T.rows(), 12);
   ASSERT_EQ(T.cols(), kInertialDim);
-  Eigen::MatrixXd Tn(12, kInertialDim);
-  const double h = 1e-6;
-  for (int i = 0; i < kInertialDim; ++i) {
-    Eigen::VectorXd d = Eigen::VectorXd::Zero(kInertialDim);
-    d(i) = h;
-    NominalState xp = x, xm = x;
-    m->inject(&xp, d);
-    m->inject(&xm, -d);
-    Tn.col(i) = (sim::cameraError(m->camera(xp), c0) - sim::cameraError(m->camera(xm), c0)) / (2 * h);
-  }
+  const Eigen::MatrixXd Tn = sim::numericCameraStateJacobian(*m, x);
   EXPECT_LT((Tn - T).cwiseAbs().maxCoeff(), 1e-7) << "\n" << Tn - T;
   // The camera pose follows the extrinsic: R_wc = R_wb R_bc, p_wc = p + R_wb p_bc.
   const CameraExtrinsic e = sim::forwardCamera();
-  EXPECT_LT((c0.p - (x.p + x.q * e.p_imu_cam)).norm(), 1e-15);
+  EXPECT_LT((m->camera(x).p - (x.p + x.q * e.p_imu_cam)).norm(), 1e-15);
   // moveCameraTo is the inverse of camera().
   NominalState x2 = x;
   m->moveCameraTo(&x2, Vec3(1, 2, 3), quatExp(Vec3(0.1, 0.2, 0.3)));
