@@ -215,8 +215,10 @@ TEST(EskfNodeletImuBase, OdometryAndTfAtImuRate) {
       max_pos_err = std::max(max_pos_err, (position(o) - truth.translation()).norm());
       max_rot_err = std::max(
           max_rot_err, Eigen::AngleAxisd(orientation(o).toRotationMatrix().transpose() * truth.linear()).angle());
-      // Twist in the camera frame: the angular part is the gyro rate rotated
-      // into the camera (imu_link -> camera through TF).
+      // Twist in the camera frame: the angular part is the gyro rate, less
+      // the gyro model's bias estimate, rotated into the camera (imu_link ->
+      // camera through TF). The simulated gyro has no bias; the frames of
+      // the first 2.5 s settle the estimate well below 1e-3 rad/s.
       max_gyro_err = std::max(max_gyro_err, std::abs(o.twist.twist.angular.y - 0.064 * std::cos(0.8 * ti)));
       EXPECT_GT(o.twist.covariance[35], 0.0);
     }
@@ -239,7 +241,7 @@ TEST(EskfNodeletImuBase, OdometryAndTfAtImuRate) {
               "gyro %.2e rad/s\n", out.size(), rate, max_pos_err, max_rot_err, max_gyro_err);
   EXPECT_LT(max_pos_err, 0.05);
   EXPECT_LT(max_rot_err, 0.02);
-  EXPECT_LT(max_gyro_err, 1e-6);
+  EXPECT_LT(max_gyro_err, 1e-3);
 
   // TF between frames: map -> camera at an IMU stamp equals that output.
   const ros::Time mid = imu_stamps[imu_stamps.size() - 5];
