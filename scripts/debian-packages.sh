@@ -14,6 +14,7 @@ HAPI_DEBIAN_PACKAGES=(
   libopencv-dev libeigen3-dev libgtest-dev googletest
   xplanet-images python3-numpy python3-yaml
   python3-matplotlib  # tools/eval plots (PNG)
+  python3-opencv  # tools/eval/motion_study.py: OpenCV's optical flow baselines (Farneback, DIS, pyramidal LK)
   libopenblas-dev  # hapi_eskf CPU backend: rank update and factorisations on OpenBLAS/LAPACK (cpu_linear_algebra.cpp)
   libmrpt-dev  # hapi_eskf_mrpt_bench: MRPT's EKF update side by side with the CPU backend (bench only, optional)
   libceres-dev  # hapi_eskf Graph SLAM and graph_refine (src/graph; skipped without it)

@@ -16,6 +16,7 @@ import evaluation as ev  # noqa: E402
 import plots  # noqa: E402
 import run_analysis  # noqa: E402
 import scene_geometry as sg  # noqa: E402
+import surface_motion_metrics as smm  # noqa: E402
 import trajectory_io as tio  # noqa: E402
 import trajectory_metrics as tm  # noqa: E402
 
@@ -333,6 +334,55 @@ class RunVerdictTest(unittest.TestCase):
                        nodes_not_answering=["/hapi_manager"])
         self.assertEqual(sorted(evaluate_run.failed_checks(partial, self.BOUNDS)), ["coverage", "end", "nodes"])
         self.assertIn("ate", evaluate_run.failed_checks(dict(self.GOOD, ate_fraction_of_distance=0.05), self.BOUNDS))
+
+
+class SurfaceMotionMetricsTest(unittest.TestCase):
+    """surface_motion_metrics: the truth over an interval, px/frame to mm/s, the study's figures, the NEES."""
+
+    def test_interval_mean_is_exact_for_a_linear_signal_and_none_outside(self):
+        t = np.linspace(0.0, 1.0, 11)
+        v = np.column_stack([2.0 * t + 1.0, -t])
+        np.testing.assert_allclose(smm.interval_mean(t, v, 0.23, 0.57), [2.0 * 0.4 + 1.0, -0.4], atol=1e-12)
+        self.assertIsNone(smm.interval_mean(t, v, -0.1, 0.5))
+        self.assertIsNone(smm.interval_mean(t, v, 0.5, 1.2))
+
+    def test_image_velocity_gives_back_the_on_surface_velocity(self):
+        rng = np.random.default_rng(3)
+        fx, fy, rate = 520.0, 515.0, 40.0
+        for _ in range(20):
+            r = np.array([rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), 1.0])
+            r /= np.linalg.norm(r)
+            X = rng.uniform(0.2, 0.4) * r
+            n = -r + rng.normal(0, 0.3, 3)
+            n /= np.linalg.norm(n)
+            xdot = rng.normal(0, 0.01, 3)  # m/s, any direction
+            s = xdot - r * (xdot @ n) / (r @ n)
+            self.assertAlmostEqual(float(s @ n), 0.0, places=12)
+            iv = smm.projection_jacobian(X, fx, fy) @ xdot / rate  # px/frame
+            np.testing.assert_allclose(smm.surface_velocity_from_image_velocity(iv, rate, X, n, fx, fy), 1000 * s,
+                                       atol=1e-9)
+
+    def test_flow_figures(self):
+        true = np.array([[1.0, 0.0]] * 4)
+        est = true + np.array([[0.1, 0.0], [0.0, 0.1], [-0.1, 0.0], [0.0, -0.3]])
+        f = smm.flow_errors(est, true, [10.0, 10.0, 1.0, 10.0])
+        self.assertAlmostEqual(f["mae_px"], 0.15)
+        self.assertAlmostEqual(f["mae_pct"], 15.0)
+        self.assertAlmostEqual(f["median_relative_pct"], 10.0)  # the slow frame left out
+        self.assertEqual(f["frames_faster_than_min"], 3)
+        v = smm.velocity_errors([[3.0, 4.0, 0.0], [0.0, 0.0, 0.0]], [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+        self.assertAlmostEqual(v["rms_mm_s"], np.sqrt(12.5))
+
+    def test_velocity_nees_has_two_degrees_of_freedom(self):
+        rng = np.random.default_rng(5)
+        n = np.array([0.2, -0.1, -1.0])
+        n /= np.linalg.norm(n)
+        B = smm.tangent_basis(n)
+        L = np.array([[0.8, 0.0], [0.3, 0.5]])
+        C = B @ (L @ L.T) @ B.T
+        est = [B @ (L @ rng.normal(size=2)) for _ in range(4000)]
+        nees = smm.velocity_nees(est, np.zeros((4000, 3)), [C] * 4000, [n] * 4000)
+        self.assertAlmostEqual(float(np.mean(nees)), 2.0, delta=0.15)
 
 
 if __name__ == "__main__":
