@@ -241,6 +241,7 @@ class FilesAndCliTest(unittest.TestCase):
         t, p, r = circle_trajectory(n=100)
         cov = np.repeat(np.eye(6)[None] * 1e-4, len(t), axis=0)
         _, series = run_analysis.analyse({**as_traj(t, p + 0.005, r), "cov": cov}, as_traj(t, p, r), max_dt=1e-6)
+        series["surface_motion"] = {"t": t, "estimate": np.ones((len(t), 3)), "truth": np.zeros((len(t), 3))}
         with tempfile.TemporaryDirectory() as d:
             files = plots.write_plots(series, d)
             self.assertEqual(sorted(os.path.basename(f) for f in files), sorted(plots.PLOT_FILES))
@@ -361,6 +362,30 @@ class SurfaceMotionMetricsTest(unittest.TestCase):
             iv = smm.projection_jacobian(X, fx, fy) @ xdot / rate  # px/frame
             np.testing.assert_allclose(smm.surface_velocity_from_image_velocity(iv, rate, X, n, fx, fy), 1000 * s,
                                        atol=1e-9)
+
+    def test_truth_from_camera_motion_against_finite_differences(self):
+        surfaces = [sg.Sphere([0.0, 0.0, 0.0], 0.2), sg.Plane([0.0, 0.0, 0.5], [0.0, 0.0, 1.0], 2.0)]
+        R = rot_x(0.2) @ rot_z(0.3)
+        p = -0.45 * R[:, 2]  # looking at the sphere's centre
+        v, w = np.array([0.01, -0.02, 0.005]), np.array([0.05, 0.1, -0.2])
+        ray = np.array([0.05, -0.03, 1.0])
+        fx = fy = 500.0
+        X, n, s, vn, iv = smm.truth_from_camera_motion(R, p, v, w, ray, surfaces, fx, fy, 40.0)
+        self.assertAlmostEqual(float(np.linalg.norm(R @ X + p)), 0.2, places=9)  # on the sphere
+        self.assertLess(float(n @ ray), 0.0)  # facing the camera
+        self.assertAlmostEqual(float(s @ n), 0.0, places=9)
+        # The material point, fixed in the world, seen from the camera moved by the twist for dt.
+        dt = 1e-6
+        Xw = R @ X + p
+        wx = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+        R2, p2 = R @ (np.eye(3) + wx * dt), p + R @ v * dt
+        xdot = (R2.T @ (Xw - p2) - X) / dt
+        self.assertAlmostEqual(1000.0 * float(xdot @ n), vn, places=4)
+        uv = lambda Y: np.array([fx * Y[0] / Y[2], fy * Y[1] / Y[2]])  # noqa: E731
+        np.testing.assert_allclose((uv(X + xdot * dt) - uv(X)) / dt / 40.0, iv, atol=1e-5)
+        np.testing.assert_allclose(1000.0 * (xdot - ray / np.linalg.norm(ray) * (xdot @ n) / (ray @ n
+                                   / np.linalg.norm(ray))), s, atol=1e-4)
+        self.assertIsNone(smm.truth_from_camera_motion(R, p, v, w, -R.T @ R[:, 2], surfaces[:1], fx, fy, 40.0))
 
     def test_flow_figures(self):
         true = np.array([[1.0, 0.0]] * 4)

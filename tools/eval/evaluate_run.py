@@ -51,6 +51,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plots  # noqa: E402
 import run_analysis  # noqa: E402
 import scene_geometry  # noqa: E402
+import surface_motion_run  # noqa: E402
 import trajectory_io as tio  # noqa: E402
 
 
@@ -99,6 +100,7 @@ class RunCollector:
         rospy.Subscriber(rospy.get_param("~calibration_topic", "/ground_truth/calibration"), String,
                          self.on_calibration, queue_size=2)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=20)
+        self.surface_motion = surface_motion_run.SurfaceMotionCollector()
 
     def on_odom(self, msg):
         p, o = msg.pose.pose.position, msg.pose.pose.orientation
@@ -209,6 +211,15 @@ class RunCollector:
         metrics, series = run_analysis.analyse(est, gt, max_dt=MAX_DT, scene=self.scene(), map_points=map_points,
                                                gt_twist=gt_twist if len(gt_twist["t"]) else None)
         res.update(metrics)
+        scene = self.scene()
+        with self.lock:
+            offset = self.time_offset
+        sm_rep, sm_series = self.surface_motion.results(offset, gt, gt_twist if len(gt_twist["t"]) else None,
+                                                        scene[1] if scene else None)
+        if sm_rep is not None:
+            res["surface_motion"] = sm_rep
+        if sm_series is not None:
+            series["surface_motion"] = sm_series
         # Coverage of the bag: the truth has one pose per frame, over the whole bag.
         if len(gt["t"]):
             res["pose_coverage"] = truth_coverage(est["t"], gt["t"], MAX_DT)
@@ -280,7 +291,9 @@ def failed_checks(res, bounds):
     """{check name: why} of every check of a run that failed. bounds: the
     test's parameters (max_ate_fraction, max_position_error (optional),
     max_map_rms, min_pose_coverage, max_end_gap; max_drift [m] and
-    max_drift_deg, optional, bound a standstill's drift instead of the ATE)."""
+    max_drift_deg, optional, bound a standstill's drift instead of the ATE;
+    max_surface_velocity_rms [mm/s], optional, bounds the surface motion's
+    error against its truth)."""
     f = {}
     if not res.get("ended", False):
         f["ended"] = "odometry never went quiet (bag did not end?)"
@@ -317,6 +330,13 @@ def failed_checks(res, bounds):
         lat = res.get("latency", {}).get(key)
         if lat is None or not 0.0 <= lat["p50"] <= lat["p99"]:
             f["latency"] = "no valid %s latency in /diagnostics: %s" % (key, lat)
+    if bounds.get("max_surface_velocity_rms") is not None:
+        sm = res.get("surface_motion", {})
+        if "rms_mm_s" not in sm:
+            f["surface_motion"] = "no surface motion scored against the truth: %s" % sm
+        elif sm["rms_mm_s"] > bounds["max_surface_velocity_rms"]:
+            f["surface_motion"] = "surface velocity error %.4g mm/s RMS > %.4g mm/s" % (
+                sm["rms_mm_s"], bounds["max_surface_velocity_rms"])
     if "map_rms_to_sphere_m" not in res:
         f["map_rms"] = "globe geometry unknown"
     elif res["map_rms_to_sphere_m"] > bounds["max_map_rms"]:
@@ -341,7 +361,8 @@ class PipelineAccuracyTest(unittest.TestCase):
                   "min_pose_coverage": rospy.get_param("~min_pose_coverage", 0.5),
                   "max_end_gap": rospy.get_param("~max_end_gap", 1.0),
                   "max_drift": rospy.get_param("~max_drift", run_analysis.STANDSTILL_MAX_DRIFT_M),
-                  "max_drift_deg": rospy.get_param("~max_drift_deg", run_analysis.STANDSTILL_MAX_DRIFT_DEG)}
+                  "max_drift_deg": rospy.get_param("~max_drift_deg", run_analysis.STANDSTILL_MAX_DRIFT_DEG),
+                  "max_surface_velocity_rms": rospy.get_param("~max_surface_velocity_rms", None)}
         failed = failed_checks(res, bounds)
         expected = rospy.get_param("~expect_failures", [])
         if expected:

@@ -134,6 +134,15 @@ def print_further_metrics(rep):
     if "angular_velocity_rms_rad_s" in rep:
         print(f"velocity error        : angular {rep['angular_velocity_rms_rad_s']:.4f} rad/s, "
               f"linear {rep['linear_velocity_rms_m_s']:.4f} m/s RMS ({rep['velocity_samples']} samples)")
+    sm = rep.get("surface_motion")
+    if sm and "rms_mm_s" in sm:
+        print(f"surface velocity      : error RMS {sm['rms_mm_s']:.2f} mm/s, p95 {sm['p95_mm_s']:.2f} mm/s over "
+              f"{sm['samples']} outputs at {sm.get('rate_hz', float('nan')):.0f} Hz (true speed mean "
+              f"{sm['mean_true_speed_mm_s']:.1f} mm/s; reporting zero: {sm['zero_output_rms_mm_s']:.1f} mm/s RMS; "
+              f"NEES {sm['nees']['mean']:.2f}, 2 dof; status OK {sm['ok_fraction'] * 100:.0f} %)")
+    elif sm:
+        print(f"surface velocity      : {sm['outputs']} outputs, status OK {sm['ok_fraction'] * 100:.0f} % "
+              f"(statuses {sm['statuses']}), not scored: no truth for it")
     if rep.get("plots"):
         print(f"plots                 : {', '.join(rep['plots'])}")
     elif rep.get("plots_missing"):

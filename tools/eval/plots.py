@@ -4,7 +4,9 @@ write_plots(series, out_dir) draws what run_analysis.analyse() returned:
   trajectory.png       estimate (SE(3)-aligned) and truth, top (x-y) and side (x-z) views;
   error_over_time.png  position error [m] and rotation error [deg] over time;
   nees.png             position and rotation NEES over time with the 95 % chi-square band
-                       (only when the estimate carried covariances).
+                       (only when the estimate carried covariances);
+  surface_velocity.png the skin's on-surface velocity at the imaging pixel, estimate and
+                       truth (only when the run had a surface-motion output and its truth).
 Returns the files written. matplotlib is imported here only, so that the
 metrics never depend on it.
 """
@@ -12,7 +14,7 @@ import os
 
 from trajectory_metrics import CHI2_3DOF_95
 
-PLOT_FILES = ("trajectory.png", "error_over_time.png", "nees.png")
+PLOT_FILES = ("trajectory.png", "error_over_time.png", "nees.png", "surface_velocity.png")
 
 
 def available():
@@ -79,4 +81,17 @@ def write_plots(series, out_dir):
             ax.grid(True, alpha=0.3)
         axes[1].set_xlabel("time since first matched pose [s]")
         save(fig, PLOT_FILES[2])
+
+    sm = series.get("surface_motion")
+    if sm is not None:
+        fig, axes = plt.subplots(3, 1, figsize=(10, 7), sharex=True)
+        for j, ax in enumerate(axes):
+            ax.plot(sm["t"], sm["truth"][:, j], "k-", lw=1.5, label="truth")
+            ax.plot(sm["t"], sm["estimate"][:, j], "b-", lw=0.8, label="estimate")
+            ax.set_ylabel("xyz"[j] + " [mm/s]")
+            ax.grid(True, alpha=0.3)
+        axes[0].legend(loc="upper right")
+        axes[0].set_title("on-surface velocity at the imaging pixel (imaging camera frame)")
+        axes[2].set_xlabel("time since the first scored output [s]")
+        save(fig, PLOT_FILES[3])
     return written

@@ -48,6 +48,18 @@ class Sphere:
         """Signed distance (outside > 0) of (N, 3) points to the sphere surface."""
         return np.linalg.norm(pts - self.centre, axis=1) - self.radius
 
+    def hit(self, o, d):
+        """(t, outward unit normal) of the nearest hit t > 0 of the ray o + t d (d unit), None on a miss."""
+        oc = o - self.centre
+        b, c = oc @ d, oc @ oc - self.radius ** 2
+        disc = b * b - c
+        if disc < 0:
+            return None
+        for t in (-b - np.sqrt(disc), -b + np.sqrt(disc)):
+            if t > 0:
+                return t, (o + t * d - self.centre) / self.radius
+        return None
+
 
 class Cylinder:
     """The lateral surface of a finite cylinder (no end caps)."""
@@ -64,6 +76,20 @@ class Cylinder:
         radial = np.linalg.norm(d - np.outer(a, self.axis), axis=1)
         beyond = np.maximum(np.abs(a) - self.half_length, 0.0)
         return np.where(radial >= self.radius, 1.0, -1.0) * np.hypot(radial - self.radius, beyond)
+
+    def hit(self, o, d):
+        oc = o - self.centre
+        dp, op = d - (d @ self.axis) * self.axis, oc - (oc @ self.axis) * self.axis
+        a, b, c = dp @ dp, op @ dp, op @ op - self.radius ** 2
+        disc = b * b - a * c
+        if a < 1e-15 or disc < 0:
+            return None
+        for t in ((-b - np.sqrt(disc)) / a, (-b + np.sqrt(disc)) / a):
+            x = oc + t * d
+            if t > 0 and abs(x @ self.axis) <= self.half_length:
+                radial = x - (x @ self.axis) * self.axis
+                return t, radial / np.linalg.norm(radial)
+        return None
 
 
 class Plane:
@@ -84,6 +110,16 @@ class Plane:
         in_plane = np.linalg.norm(d - np.outer(h, self.normal), axis=1)
         beyond = np.maximum(in_plane - self.half_extent, 0.0)
         return np.where(h >= 0, 1.0, -1.0) * np.hypot(h, beyond)
+
+    def hit(self, o, d):
+        den = d @ self.normal
+        if abs(den) < 1e-12:
+            return None
+        t = ((self.point - o) @ self.normal) / den
+        x = o + t * d - self.point
+        if t <= 0 or np.linalg.norm(x - (x @ self.normal) * self.normal) > self.half_extent:
+            return None
+        return t, self.normal
 
 
 def surface_from_dict(s):
@@ -112,6 +148,16 @@ def parse_globe_info(text):
     """The globe bags' /globe/info: one sphere."""
     doc = yaml.safe_load(text)
     return "globe", [Sphere(doc["centre"], doc["radius"])]
+
+
+def first_hit(surfaces, o, d):
+    """(t, unit normal facing the ray's origin) of the nearest surface hit by o + t d, None on a miss."""
+    o, d = np.asarray(o, dtype=float), np.asarray(d, dtype=float) / np.linalg.norm(d)
+    hits = [h for h in (s.hit(o, d) for s in surfaces) if h is not None]
+    if not hits:
+        return None
+    t, n = min(hits, key=lambda h: h[0])
+    return t, (n if n @ d < 0 else -n)
 
 
 def distance_to_scene(points, surfaces):

@@ -87,3 +87,21 @@ def velocity_nees(est_mm_s, true_mm_s, cov_mm_s, normals):
         S = B.T @ np.asarray(C, float).reshape(3, 3) @ B
         out.append(float(d @ np.linalg.solve(S, d)))
     return np.array(out)
+
+
+def truth_from_camera_motion(R_wc, p_wc, v_c, w_c, ray_c, surfaces, fx, fy, frame_rate):
+    """The surface motion's truth at a pixel for a static scene, from the
+    camera's true pose (R_wc, p_wc: camera in world), its twist in the camera
+    frame (v_c [m/s], w_c [rad/s]) and the known surfaces (scene_geometry):
+    (X [m], n, s [mm/s], normal velocity [mm/s], image velocity [px/frame]),
+    all in the camera frame; None when the ray misses. The definitions are
+    docs/DESIGN.md "Surface motion"'s: Xdot = -(v + w x X)."""
+    import scene_geometry
+    r = np.asarray(ray_c, float) / np.linalg.norm(ray_c)
+    h = scene_geometry.first_hit(surfaces, p_wc, R_wc @ r)
+    if h is None:
+        return None
+    X, n = h[0] * r, R_wc.T @ h[1]
+    xdot = -(np.asarray(v_c, float) + np.cross(w_c, X))
+    s = xdot - r * (xdot @ n) / (r @ n)
+    return X, n, 1000.0 * s, 1000.0 * float(xdot @ n), projection_jacobian(X, fx, fy) @ xdot / frame_rate
