@@ -387,6 +387,16 @@ class SurfaceMotionMetricsTest(unittest.TestCase):
                                    / np.linalg.norm(ray))), s, atol=1e-4)
         self.assertIsNone(smm.truth_from_camera_motion(R, p, v, w, -R.T @ R[:, 2], surfaces[:1], fx, fy, 40.0))
 
+    def test_twist_from_poses_of_a_smooth_motion(self):
+        t, p, r = circle_trajectory(n=200, rate=10.0)
+        tw = smm.twist_from_poses(t, p, r)
+        i = 100
+        v_world = np.array([-0.6 * np.sin(0.3 * t[i]), 0.6 * np.cos(0.3 * t[i]), 0.14 * np.cos(0.7 * t[i])])
+        np.testing.assert_allclose(tw[i, :3], r[i].T @ v_world, atol=2e-3)
+        h = 1e-5
+        wx = r[i].T @ (rot_z(0.3 * (t[i] + h)) @ rot_x(0.1 * np.sin(t[i] + h)) - r[i]) / h
+        np.testing.assert_allclose(tw[i, 3:], [wx[2, 1], wx[0, 2], wx[1, 0]], atol=2e-3)
+
     def test_flow_figures(self):
         true = np.array([[1.0, 0.0]] * 4)
         est = true + np.array([[0.1, 0.0], [0.0, 0.1], [-0.1, 0.0], [0.0, -0.3]])

@@ -105,3 +105,25 @@ def truth_from_camera_motion(R_wc, p_wc, v_c, w_c, ray_c, surfaces, fx, fy, fram
     xdot = -(np.asarray(v_c, float) + np.cross(w_c, X))
     s = xdot - r * (xdot @ n) / (r @ n)
     return X, n, 1000.0 * s, 1000.0 * float(xdot @ n), projection_jacobian(X, fx, fy) @ xdot / frame_rate
+
+
+def log_so3(R):
+    """The rotation vector of R (angle < pi)."""
+    c = np.clip((np.trace(R) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(c)
+    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / 2.0
+    return w if angle < 1e-9 else w * angle / np.sin(angle)
+
+
+def twist_from_poses(t, p, R):
+    """The camera-frame twist (v, w) at each pose from central differences of
+    its neighbours (one-sided at the ends): for a recording whose truth has
+    poses but no twist. Exact to second order for a smooth motion."""
+    t, p = np.asarray(t, float), np.asarray(p, float)
+    out = np.zeros((len(t), 6))
+    for i in range(len(t)):
+        a, b = max(i - 1, 0), min(i + 1, len(t) - 1)
+        dt = t[b] - t[a]
+        out[i, :3] = R[i].T @ (p[b] - p[a]) / dt
+        out[i, 3:] = log_so3(R[a].T @ R[b]) / dt
+    return out

@@ -5,8 +5,8 @@ and scores it (surface_motion_metrics).
 The truth is the bag's /ground_truth/surface_motion when it has one (the
 simulator's exact truth, subject motion included); otherwise, for a static
 scene of known geometry, it follows from the camera's true pose and twist
-(/ground_truth/pose, /ground_truth/odometry) and the imaging camera's
-intrinsics (surface_motion_metrics.truth_from_camera_motion). Stamps are
+(/ground_truth/pose; /ground_truth/odometry, or else central differences
+of the poses) and the imaging camera's intrinsics (surface_motion_metrics.truth_from_camera_motion). Stamps are
 moved onto the truth's clock as the poses are (t_truth = t_output + offset).
 """
 import threading
@@ -60,8 +60,10 @@ class SurfaceMotionCollector:
         """The truth at the output instants t from the camera's true motion (static scene)."""
         with self.lock:
             K = self.K
-        if K is None or surfaces is None or gt_twist is None or not len(gt_twist["t"]) or len(gt["t"]) < 2:
+        if K is None or surfaces is None or len(gt["t"]) < 3:
             return None, None
+        if gt_twist is None or not len(gt_twist["t"]):
+            gt_twist = {"t": gt["t"], "twist": smm.twist_from_poses(gt["t"], gt["p"], tm.rotations_from_quats(gt["q"]))}
         u, v, rate = pixel
         ray = np.linalg.solve(K, [u, v, 1.0])
         idx, p, R = tm.interpolate_poses(gt["t"], gt["p"], tm.rotations_from_quats(gt["q"]), t, max_gap=0.2)
