@@ -24,6 +24,9 @@ struct SurfaceMotionTruth {
   double speed = 0.0;                                        // mm/s, |s|
   double normal_velocity = 0.0;                              // mm/s, Xdot . n (> 0: approaching)
   Eigen::Vector2d image_velocity = Eigen::Vector2d::Zero();  // px per frame, d/dt pi(X) / frame_rate
+  // hapi_msgs/SurfaceMotion's status codes (the bag writer checks they agree).
+  static constexpr int kStatusOk = 0, kStatusRayMissesMap = 3;
+  int status() const { return hit ? kStatusOk : kStatusRayMissesMap; }
 };
 
 // The truth at `pixel` of `camera` (pi its projection, lens distortion

@@ -4,7 +4,8 @@
 // keeps the 2 x 2 anti-aliasing's sub-pixels on texels of their own. The
 // view at 30 cm spans 38 x 29 cm: the disc (radius kPatchHalfExtent, centre
 // kPatchOffset behind the view centre along x) fills it while the seen point
-// moves from +0.15 to -0.18 m along x, 33 cm of stage travel.
+// moves from +0.15 to -0.17 m along x (the lens widens the corners): 32 cm of
+// stage travel.
 #include <cmath>
 
 #include "hapi_sim/scene.hpp"
