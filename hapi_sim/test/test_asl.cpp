@@ -1,6 +1,7 @@
 // The EuRoC/ASL writer: the documented files and headers exist, sensor.yaml
 // carries the true extrinsic and intrinsics, and every CSV parses back to the
-// numbers the scenario produces (images, IMU, ground truth, scene motion).
+// numbers the scenario produces (images, IMU, ground truth, scene motion);
+// with an imaging camera, its folder and the surface-motion truth.
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <filesystem>
@@ -169,4 +170,60 @@ TEST_F(AslTest, CsvRowsParseBackToTheScenario) {
   }
   // The scene really moves in this scenario.
   EXPECT_GT(std::abs(csvNumbers(sc.back())[1] - csvNumbers(sc[1])[1]), 1e-4);
+}
+
+// No imaging camera by default: no folder for it.
+TEST_F(AslTest, NoImagingFoldersWithoutAnImagingCamera) {
+  EXPECT_FALSE(fs::exists(root_ + "/mav0/cam_imaging"));
+  EXPECT_FALSE(fs::exists(root_ + "/mav0/surface_motion_groundtruth0"));
+}
+
+// With --imaging-rate: cam_imaging as cam0 at its own rate (its PNGs are the
+// scenario's imaging frames) and the surface-motion truth at IMU rate, every
+// number exactly the scenario's.
+TEST(AslImaging, ImagingCameraAndSurfaceMotionTruth) {
+  const std::string root = "/tmp/hapi_sim_asl_imaging_test_" + std::to_string(::getpid());
+  ScenarioConfig c;
+  c.scene = SceneKind::Skin;
+  c.trajectory = TrajectoryKind::Measurement;
+  c.seed = 2;
+  c.duration = 0.5;
+  c.image_scale = 0.25;
+  c.blur_samples = 4;
+  c.imaging_rate = 40;
+  c.imaging_pixel = Eigen::Vector2d(70, 50);
+  const Scenario s(c);
+  writeAslDataset(s, root);
+  const std::string m = root + "/mav0/";
+  const auto rows = lines(m + "cam_imaging/data.csv");
+  ASSERT_EQ(rows.size(), 21u);
+  EXPECT_EQ(rows[0], AslWriter::kCameraHeader);
+  for (int64_t j = 0; j < 20; ++j) {
+    const std::string stamp = std::to_string(kSimEpochNs + s.imagingStampNs(j));
+    EXPECT_EQ(rows[j + 1], stamp + "," + stamp + ".png");
+  }
+  const std::string png = m + "cam_imaging/data/" + std::to_string(kSimEpochNs + s.imagingStampNs(7)) + ".png";
+  EXPECT_EQ(cv::norm(cv::imread(png, cv::IMREAD_UNCHANGED), s.renderImaging(7), cv::NORM_L1), 0.0);
+  const std::string yaml = slurp(m + "cam_imaging/sensor.yaml");
+  EXPECT_EQ(yamlList(yaml, "intrinsics"), yamlList(slurp(m + "cam0/sensor.yaml"), "intrinsics"));
+  EXPECT_EQ(yamlList(yaml, "data"), yamlList(slurp(m + "cam0/sensor.yaml"), "data"));
+  EXPECT_NE(yaml.find("rate_hz: 40\n"), std::string::npos);
+  const std::string sm = slurp(m + "surface_motion_groundtruth0/sensor.yaml");
+  EXPECT_EQ(yamlList(sm, "pixel"), (std::vector<double>{70, 50}));
+  EXPECT_NE(sm.find("frame_rate_hz: 40\n"), std::string::npos);
+  const auto truth = lines(m + "surface_motion_groundtruth0/data.csv");
+  ASSERT_EQ(static_cast<int64_t>(truth.size()), s.imuCount() + 1);
+  EXPECT_EQ(truth[0], AslWriter::kSurfaceMotionHeader);
+  for (int64_t i = 0; i < s.imuCount(); ++i) {
+    const SurfaceMotionTruth t = s.surfaceMotion(s.imuTimeNs(i) * 1e-9);
+    const std::vector<double> v = csvNumbers(truth[i + 1]);
+    ASSERT_EQ(v.size(), 15u);
+    EXPECT_EQ(truth[i + 1].substr(0, truth[i + 1].find(',')), std::to_string(kSimEpochNs + s.imuTimeNs(i)));
+    const double want[] = {t.point.x(), t.point.y(), t.point.z(), t.normal.x(), t.normal.y(), t.normal.z(),
+                           t.surface_velocity.x(), t.surface_velocity.y(), t.surface_velocity.z(), t.speed,
+                           t.normal_velocity, t.image_velocity.x(), t.image_velocity.y(), 0.0};
+    for (int k = 0; k < 14; ++k) EXPECT_EQ(v[1 + k], want[k]) << "row " << i << " column " << k + 1;
+    EXPECT_GT(t.speed, 0.0);
+  }
+  fs::remove_all(root);
 }

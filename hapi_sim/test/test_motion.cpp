@@ -1,5 +1,5 @@
 // Kinematics of the simulation suite: exact trajectory derivatives against
-// finite differences (all five trajectories, both scene framings, the scene's
+// finite differences (the moving trajectories, both scene framings, the scene's
 // own motion, the IMU lever arm and the relative motion), the IMU model
 // (noise-free readings integrate back to the trajectory; gravity sign; noise
 // statistics match the densities), the tremor/sway and fast-turn figures,
@@ -62,10 +62,14 @@ Pose extrinsic() { return CameraImuCalibration::makeDefault().T_cam_imu; }
 
 }  // namespace
 
+// The kinds that move (rest and orbit are covered by their own tests).
+const TrajectoryKind kMoving[] = {TrajectoryKind::Smooth,  TrajectoryKind::Handheld,    TrajectoryKind::Fast,
+                                  TrajectoryKind::Loop,    TrajectoryKind::Subject,     TrajectoryKind::Measurement,
+                                  TrajectoryKind::MeasurementSubject, TrajectoryKind::Stage};
+
 TEST(Trajectories, ExactDerivativesMatchFiniteDifferences) {
   for (const ViewGeometry& view : {skinView(), globeView()})
-    for (int k = 0; k < 5; ++k) {
-      const TrajectoryKind kind = static_cast<TrajectoryKind>(k);
+    for (const TrajectoryKind kind : kMoving) {
       const std::string name = trajectoryName(kind) + (view.globe ? " globe" : " skin");
       const auto device = makeDeviceMotion(kind, view, 7);
       const auto scene = makeSceneMotion(kind, view, 7);
@@ -95,8 +99,7 @@ TEST(Trajectories, GlobeOrbitLegacySampleIsExact) {
 // Noise off: RK4 on (q, v, p) driven by the simulated gyro and accelerometer
 // from the true initial state reproduces the true IMU trajectory.
 TEST(Imu, NoiseFreeReadingsIntegrateBackToTheTrajectory) {
-  for (int k = 0; k < 5; ++k) {
-    const TrajectoryKind kind = static_cast<TrajectoryKind>(k);
+  for (const TrajectoryKind kind : kMoving) {
     const auto device = makeDeviceMotion(kind, skinView(), 3);
     ImuModel model(ImuSpec::adis16448(), 200.0, 3, false, false);
     auto truth = [&](double t) { return attachedFrame(device->sample(t), extrinsic()); };

@@ -118,12 +118,15 @@ TEST(Scene, SkinIsLowContrastButHasCorners) {
 }
 
 // The image centre's ray hits the scene in every frame, and the arm in most
-// frames (all but the loop, which visits the table on purpose).
+// frames (all but the loop, which visits the table on purpose, and the
+// stage, meant for the patch: 30 s at 5 mm/s carries the arm's end past).
 TEST(Scene, EveryTrajectoryKeepsTheSceneInView) {
   const Scene& s = skin();
   const StereoRigModel rig = StereoRigModel::makeDefault();
-  for (int k = 0; k < 5; ++k) {
-    const TrajectoryKind kind = static_cast<TrajectoryKind>(k);
+  for (const TrajectoryKind kind :
+       {TrajectoryKind::Smooth, TrajectoryKind::Handheld, TrajectoryKind::Fast, TrajectoryKind::Loop,
+        TrajectoryKind::Subject, TrajectoryKind::Measurement, TrajectoryKind::MeasurementSubject,
+        TrajectoryKind::Stage}) {
     const auto device = makeDeviceMotion(kind, s.view(), 1);
     const auto scene = makeSceneMotion(kind, s.view(), 1);
     int frames = 0, on_arm = 0;
@@ -137,7 +140,7 @@ TEST(Scene, EveryTrajectoryKeepsTheSceneInView) {
       EXPECT_LT(tt, 0.45) << trajectoryName(kind);
       on_arm += intersectSurface(s.surfaces()[0], P.p, d, &tt) ? 1 : 0;
     }
-    if (kind != TrajectoryKind::Loop) EXPECT_GT(on_arm, 0.8 * frames) << trajectoryName(kind);
+    if (kind != TrajectoryKind::Loop && kind != TrajectoryKind::Stage) EXPECT_GT(on_arm, 0.8 * frames) << trajectoryName(kind);
   }
 }
 

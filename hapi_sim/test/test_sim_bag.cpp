@@ -4,9 +4,12 @@
 // calibration YAML, ground-truth odometry twist against its own poses, the
 // IMU against the IMU ground truth, the --asl folder written alongside, and
 // --realism real: the filter's topics carry the believed calibration, the
-// ground truth the true one, CameraInfo the real lens.
+// ground truth the true one, CameraInfo the real lens; --imaging-rate: the
+// imaging camera's topics, its frame on /tf_static and the surface-motion
+// truth, the same numbers as the ASL folder's.
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
+#include <hapi_msgs/SurfaceMotion.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -83,12 +86,15 @@ class SimBagTest : public ::testing::Test {
     generate("--scene skin --trajectory handheld --seed 2 --output " + tmp("b.bag"));
     generate("--scene globe --trajectory subject --seed 1 --output " + tmp("g.bag"));
     generate("--scene skin --trajectory rest --seed 4 --realism real --output " + tmp("r.bag"));
+    generate("--scene skin --trajectory measurement --seed 3 --imaging-rate 40 --output " + tmp("m.bag") + " --asl " +
+             tmp("masl"));
     skin_ = new BagData(readBag(tmp("a.bag")));
     globe_ = new BagData(readBag(tmp("g.bag")));
   }
   static void TearDownTestSuite() {
-    for (const char* f : {"a.bag", "a2.bag", "b.bag", "g.bag", "r.bag"}) std::remove(tmp(f).c_str());
+    for (const char* f : {"a.bag", "a2.bag", "b.bag", "g.bag", "r.bag", "m.bag"}) std::remove(tmp(f).c_str());
     std::filesystem::remove_all(tmp("asl"));
+    std::filesystem::remove_all(tmp("masl"));
     delete skin_;
     delete globe_;
   }
@@ -249,6 +255,89 @@ TEST_F(SimBagTest, AslFolderWrittenAlongside) {
   int rows = 0;
   for (std::string l; std::getline(f, l);) ++rows;
   EXPECT_EQ(rows, 201);
+}
+
+// The imaging camera (the left camera at 40 Hz) and the truth at its pixel:
+// topics, counts, frames and stamps (camera clock for the images, true clock
+// for the truth), the identity extrinsic, CameraInfo = the left camera's,
+// and the truth's numbers = the scenario's = the ASL folder's.
+TEST_F(SimBagTest, ImagingCameraAndSurfaceMotionTruth) {
+  const std::string bag = tmp("m.bag");
+  const BagData d = readBag(bag);
+  for (const auto& [topic, type] : skin_->types) EXPECT_EQ(d.types.at(topic), type) << topic;
+  EXPECT_EQ(d.types.at("/imaging/image_raw"), "sensor_msgs/Image");
+  EXPECT_EQ(d.types.at("/imaging/camera_info"), "sensor_msgs/CameraInfo");
+  EXPECT_EQ(d.types.at("/ground_truth/surface_motion"), "hapi_msgs/SurfaceMotion");
+  EXPECT_EQ(d.types.size(), skin_->types.size() + 3);
+  EXPECT_EQ(d.counts.at("/imaging/image_raw"), 40);
+  EXPECT_EQ(d.counts.at("/imaging/camera_info"), 40);
+  EXPECT_EQ(d.counts.at("/ground_truth/surface_motion"), 200);
+  const auto images = hapi_sim_test::readMessages<sensor_msgs::Image>(bag, "/imaging/image_raw");
+  const auto infos = hapi_sim_test::readMessages<sensor_msgs::CameraInfo>(bag, "/imaging/camera_info");
+  const auto left_info = hapi_sim_test::readMessages<sensor_msgs::CameraInfo>(bag, "/stereo/left/camera_info");
+  const ros::Time t0(1000000000, 0);
+  for (int j = 0; j < 40; ++j) {
+    EXPECT_EQ(images[j].header.stamp, t0 + ros::Duration(0, 25000000 * j + 3000000));  // camera clock
+    EXPECT_EQ(images[j].header.frame_id, "imaging_optical_frame");
+    EXPECT_EQ(images[j].header.seq, static_cast<uint32_t>(j));
+    EXPECT_EQ(images[j].encoding, "mono8");
+    EXPECT_EQ(images[j].width, 160u);
+    EXPECT_EQ(infos[j].header, images[j].header);
+    EXPECT_EQ(infos[j].K, left_info[0].K);
+    EXPECT_EQ(infos[j].D, left_info[0].D);
+  }
+  // Every 4th imaging frame is exposed with a stereo frame (other noise).
+  EXPECT_EQ(images[4].header.stamp, d.left[1].header.stamp);
+  bool found = false;
+  for (const auto& t : d.tf_static.at(0).transforms)
+    if (t.child_frame_id == "imaging_optical_frame") {
+      found = true;
+      EXPECT_EQ(t.header.frame_id, "stereo_left_optical_frame");
+      EXPECT_EQ(vec(t.transform.translation).norm(), 0.0);
+      EXPECT_EQ(quat(t.transform.rotation).angularDistance(Eigen::Quaterniond::Identity()), 0.0);
+    }
+  EXPECT_TRUE(found);
+  // The truth, against the scenario and the ASL folder written by the same run.
+  ScenarioConfig cfg;
+  cfg.trajectory = TrajectoryKind::Measurement;
+  cfg.seed = 3;
+  cfg.duration = 1;
+  cfg.image_scale = 0.25;
+  cfg.blur_samples = 4;
+  cfg.imaging_rate = 40;
+  const Scenario sc(cfg);
+  const auto truth = hapi_sim_test::readMessages<hapi_msgs::SurfaceMotion>(bag, "/ground_truth/surface_motion");
+  std::ifstream csv(tmp("masl") + "/mav0/surface_motion_groundtruth0/data.csv");
+  std::string line;
+  std::getline(csv, line);  // the header
+  for (int i = 0; i < 200; ++i) {
+    const hapi_msgs::SurfaceMotion& m = truth[i];
+    EXPECT_EQ(m.header.stamp, t0 + ros::Duration(0, 5000000 * i));  // true clock
+    EXPECT_EQ(m.header.frame_id, "imaging_optical_frame");
+    EXPECT_EQ(m.status, hapi_msgs::SurfaceMotion::STATUS_OK);
+    EXPECT_EQ(m.u, 79.5);
+    EXPECT_EQ(m.v, 59.5);
+    EXPECT_EQ(m.frame_rate, 40.0);
+    const SurfaceMotionTruth want = sc.surfaceMotion(i * 0.005);
+    EXPECT_EQ(vec(m.point), want.point);
+    EXPECT_EQ(vec(m.normal), want.normal);
+    EXPECT_EQ(vec(m.surface_velocity), want.surface_velocity);
+    EXPECT_EQ(m.speed, want.speed);
+    EXPECT_EQ(m.normal_velocity, want.normal_velocity);
+    EXPECT_EQ(m.image_velocity[0], want.image_velocity.x());
+    EXPECT_EQ(m.image_velocity[1], want.image_velocity.y());
+    for (double c : m.surface_velocity_covariance) EXPECT_EQ(c, 0.0);
+    ASSERT_TRUE(std::getline(csv, line));
+    std::stringstream row(line);
+    std::vector<double> v;
+    for (std::string cell; std::getline(row, cell, ',');) v.push_back(std::stod(cell));
+    ASSERT_EQ(v.size(), 15u);
+    const double bag_numbers[] = {m.point.x, m.point.y, m.point.z, m.normal.x, m.normal.y, m.normal.z,
+                                  m.surface_velocity.x, m.surface_velocity.y, m.surface_velocity.z, m.speed,
+                                  m.normal_velocity, m.image_velocity[0], m.image_velocity[1],
+                                  static_cast<double>(m.status)};
+    for (int k = 0; k < 14; ++k) EXPECT_EQ(v[1 + k], bag_numbers[k]) << "row " << i << " column " << k + 1;
+  }
 }
 
 int main(int argc, char** argv) {

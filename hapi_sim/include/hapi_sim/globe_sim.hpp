@@ -51,6 +51,15 @@ struct StereoRigModel {
 };
 
 // Distortion of normalised image coordinates (z = 1) and its iterative inverse.
+// The template serves any scalar with + and * (double, hapi_sim::Jet2 for
+// exact time derivatives of a projection).
+template <class T>
+void distortNormalized(const CameraModel& c, const T& x, const T& y, T* xd, T* yd) {
+  const T r2 = x * x + y * y;
+  const T rad = T(1.0) + r2 * (T(c.k1) + r2 * (T(c.k2) + r2 * T(c.k3)));
+  *xd = x * rad + T(2 * c.p1) * x * y + T(c.p2) * (r2 + T(2.0) * x * x);
+  *yd = y * rad + T(c.p1) * (r2 + T(2.0) * y * y) + T(2 * c.p2) * x * y;
+}
 Eigen::Vector2d distortNormalized(const CameraModel& cam, const Eigen::Vector2d& xn);
 Eigen::Vector2d undistortNormalized(const CameraModel& cam, const Eigen::Vector2d& xd);
 // Pixel -> unit ray in the camera frame (distortion removed).

@@ -68,6 +68,7 @@ struct M3 {
   V3<T> operator*(const V3<T>& v) const { return v.x * c0 + v.y * c1 + v.z * c2; }
   M3 operator*(const M3& o) const { return {(*this) * o.c0, (*this) * o.c1, (*this) * o.c2}; }
   static M3 identity() { return {V3<T>(1.0, 0.0, 0.0), V3<T>(0.0, 1.0, 0.0), V3<T>(0.0, 0.0, 1.0)}; }
+  M3 transposed() const { return {V3<T>(c0.x, c1.x, c2.x), V3<T>(c0.y, c1.y, c2.y), V3<T>(c0.z, c1.z, c2.z)}; }
 };
 
 // Elementary rotations (right-handed, angle in radians).
@@ -105,6 +106,8 @@ template <class T>
 struct PoseT {
   M3<T> R = M3<T>::identity();
   V3<T> p;
+  PoseT inverse() const { return {R.transposed(), T(-1.0) * (R.transposed() * p)}; }
+  PoseT operator*(const PoseT& o) const { return {R * o.R, p + R * o.p}; }
 };
 
 }  // namespace hapi_sim

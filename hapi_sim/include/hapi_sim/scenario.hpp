@@ -1,7 +1,9 @@
 // hapi_sim: one simulated hand-held stereo + IMU recording (the suite's
 // scenario): a scene, the device's motion and the scene's motion, the stereo
 // rig, the camera-IMU extrinsic and time offset, image formation and the IMU
-// model. ROS-free; make_sim_bag and the ASL writer both read it.
+// model, and optionally the imaging camera (the stereo left camera at its
+// own frame rate) with the surface-motion truth at its pixel. ROS-free;
+// make_sim_bag and the ASL writer both read it.
 //
 // Frames and clocks (docs/DESIGN.md "Data"):
 //  * inertial frame: gravity along -z; the device's IMU moves in it.
@@ -11,6 +13,8 @@
 //    around true time k / rate (mid-exposure); its camera stamp is
 //    t_cam = t_imu - time_offset (Kalibr: t_imu = t_cam + timeshift_cam_imu),
 //    i.e. with the default offset of -3 ms camera stamps are 3 ms late.
+//    Imaging frame j is exposed around true time j / imaging_rate, stamped
+//    in the same camera clock.
 #pragma once
 #include <opencv2/core.hpp>
 #include <cstdint>
@@ -23,11 +27,12 @@
 #include "hapi_sim/motion.hpp"
 #include "hapi_sim/realism.hpp"
 #include "hapi_sim/scene.hpp"
+#include "hapi_sim/surface_motion_truth.hpp"
 #include "hapi_sim/trajectories.hpp"
 
 namespace hapi_sim {
 
-enum class SceneKind { Globe, Skin };
+enum class SceneKind { Globe, Skin, Patch };
 bool parseSceneKind(const std::string& name, SceneKind* kind);
 
 // First stamp of every simulated recording: fixed, never wall time.
@@ -49,6 +54,10 @@ struct ScenarioConfig {
   double image_scale = 1.0;   // of the 640 x 480 rig (smaller for quick tests)
   Realism realism = Realism::Ideal;  // sensor and calibration imperfections (realism.hpp)
   std::string globe_texture = "/usr/share/xplanet/images/earth.jpg";
+  double imaging_rate = 0.0;  // Hz, the imaging camera's frame rate (0: no imaging stream)
+  // px, the imaging camera's surface-motion pixel; negative: the image centre.
+  Eigen::Vector2d imaging_pixel = Eigen::Vector2d(-1.0, -1.0);
+  double stage_speed = 0.005;  // m/s, the stage trajectory's speed
   // "" when valid, else what is wrong (one rule for every front end).
   std::string validate() const;
 };
@@ -84,24 +93,39 @@ class Scenario {
   int64_t frameTimeNs(int64_t k) const { return k * frame_ns_; }                     // true (IMU clock)
   int64_t frameStampNs(int64_t k) const { return k * frame_ns_ - calib_.time_offset_ns; }  // camera clock
   int64_t imuTimeNs(int64_t i) const { return i * imu_ns_; }
+  // The imaging camera: the stereo left camera (same intrinsics, same pose:
+  // its frame is the left optical frame), frames at imaging_rate.
+  int64_t imagingCount() const { return n_imaging_; }
+  int64_t imagingTimeNs(int64_t j) const { return j * imaging_ns_; }                      // true (IMU clock)
+  int64_t imagingStampNs(int64_t j) const { return j * imaging_ns_ - calib_.time_offset_ns; }  // camera clock
+  const CameraModel& imagingCamera() const { return rig_.left; }
+  CameraInfoData imagingInfo() const { return rig_.leftInfo(); }
+  Eigen::Vector2d imagingPixel() const;
 
   // Ground truth at true time t.
   MotionSample leftCameraInScene(double t) const;     // what an estimator should report
   MotionSample leftCameraInInertial(double t) const;
   MotionSample imuInInertial(double t) const;         // EuRoC's state ground truth
   MotionSample sceneInInertial(double t) const;
+  // The surface motion at the imaging pixel at true time t.
+  SurfaceMotionTruth surfaceMotion(double t) const;
   double gain(double t) const { return exposure_.gain(t); }
 
   // Frame k's images (mono8), deterministic per (seed, k).
   void renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const;
+  // Imaging frame j (mono8): the left camera's image formation at its time,
+  // deterministic per (seed, j).
+  cv::Mat renderImaging(int64_t j) const;
   // A fresh IMU sample stream (call measure() in sample order).
   ImuModel makeImuModel() const;
 
-  // Every IMU sample and every stereo frame once, in stamp order (IMU first
-  // at equal stamps, so a filter can predict up to an image's time).
+  // Every IMU sample, every stereo frame and, given on_imaging, every
+  // imaging frame once, in stamp order (IMU first at equal stamps, so a
+  // filter can predict up to an image's time; then stereo, then imaging).
   using ImuSink = std::function<void(int64_t i, const ImuReading& reading)>;
   using FrameSink = std::function<void(int64_t k, const cv::Mat& left, const cv::Mat& right)>;
-  void play(const ImuSink& on_imu, const FrameSink& on_frame) const;
+  using ImagingSink = std::function<void(int64_t j, const cv::Mat& image)>;
+  void play(const ImuSink& on_imu, const FrameSink& on_frame, const ImagingSink& on_imaging = nullptr) const;
 
  private:
   ScenarioConfig cfg_;
@@ -114,7 +138,10 @@ class Scenario {
   ExposureModel exposure_;
   SensorNoise sensor_;
   std::unique_ptr<SceneRenderer> ren_l_, ren_r_;
-  int64_t frame_ns_ = 0, imu_ns_ = 0, n_frames_ = 0, n_imu_ = 0;
+  int64_t frame_ns_ = 0, imu_ns_ = 0, n_frames_ = 0, n_imu_ = 0, imaging_ns_ = 0, n_imaging_ = 0;
+
+  // The left camera's sub-frame poses in the scene over the exposure around t.
+  std::vector<Pose> exposurePoses(double t) const;
 };
 
 }  // namespace hapi_sim

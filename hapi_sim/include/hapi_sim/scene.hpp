@@ -32,6 +32,13 @@ double distanceToSurface(const SurfaceSpec& s, const Eigen::Vector3d& X);
 double distanceToSurfaces(const std::vector<SurfaceSpec>& s, const Eigen::Vector3d& X);
 // Nearest hit t > 0 of o + t d (d unit) within the surface's bounds.
 bool intersectSurface(const SurfaceSpec& s, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double* t);
+// Unit normal of the surface at its point X, facing the side d comes from
+// (n . d < 0).
+Eigen::Vector3d surfaceNormal(const SurfaceSpec& s, const Eigen::Vector3d& X, const Eigen::Vector3d& d);
+// The nearest hit over all the surfaces (the one Scene::trace reports) and
+// the normal there, facing the ray's origin.
+bool intersectSurfaces(const std::vector<SurfaceSpec>& s, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                       double* t, Eigen::Vector3d* normal);
 
 // Bilinear grey-level texture (CV_32FC1), texel centres at integers; u wraps
 // when wrap_u, otherwise both coordinates clamp.
@@ -63,6 +70,13 @@ std::unique_ptr<Scene> makeGlobeSimScene(const std::string& texture_path);
 // A forearm (cylinder r 4.5 cm, 25 cm long, axis x, resting on the table) on
 // a wooden table (the plane z = 0, a disc of 0.6 m radius).
 std::unique_ptr<Scene> makeSkinScene();
+
+// A flat skin patch (the study's stage target): the plane z = 0, a disc of
+// kPatchHalfExtent about (-kPatchOffset, 0, 0), skin-textured, framed from
+// 30 cm above the origin; the offset leaves room for the stage's travel
+// along +x (the seen point moves to -x on the patch).
+constexpr double kPatchHalfExtent = 0.4, kPatchOffset = 0.15;  // m
+std::unique_ptr<Scene> makePatchScene();
 
 // Procedural textures (one deterministic field each; texel size in metres).
 cv::Mat makeSkinTexture(int width, int height, double texel);

@@ -1,7 +1,7 @@
-// hapi_sim: the hand-held scenario catalogue: five analytic device
-// trajectories (left optical frame in the inertial frame) and the scene's
-// own motion (scene frame in the inertial frame), all C2 with exact
-// derivatives through Jet2. Full parameters: docs/DESIGN.md "Data".
+// hapi_sim: the hand-held scenario catalogue: analytic device trajectories
+// (left optical frame in the inertial frame) and the scene's own motion
+// (scene frame in the inertial frame), all C2 with exact derivatives through
+// Jet2. Full parameters: docs/DESIGN.md "Data".
 //   smooth    globe: make_globe_bag's orbit; surface: slow scan, no hand motion
 //   handheld  slow sweep along the surface + sway (1-3 Hz) + tremor (8-12 Hz)
 //   fast      1.7 Hz swipe (>= 1 m/s) + 1 Hz roll (>= 3 rad/s) + tremor
@@ -9,6 +9,11 @@
 //   subject   device held still (tremor only); the scene moves cm and degrees at 0.5-2 Hz
 //   rest      device on a stand (no hand motion at all), scene static: the standing-still drift
 //   orbit     constant-speed circles around the centre, one in 42 s, no hand motion (loop closure at 42 s)
+//   measurement          slow drift and sway with HAPI's measured hand-motion statistics
+//                        (kMeasuredHandMotion, 7 s runs) + tremor; scene static
+//   measurement_subject  device held still (tremor only); the scene makes the same relative motion
+//   stage                device on a stand; the scene translates in its plane at --stage-speed
+//                        (still 0.5 s, then a 0.5 s ramp to the constant speed)
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -21,7 +26,7 @@
 
 namespace hapi_sim {
 
-enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest, Orbit };
+enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest, Orbit, Measurement, MeasurementSubject, Stage };
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind);
 std::string trajectoryName(TrajectoryKind kind);
 
@@ -74,9 +79,34 @@ std::unique_ptr<RigidMotion> makeStillTrajectory(const ViewGeometry& view, uint3
 // ... while the scene moves: a few cm and degrees at 0.5-2 Hz about the view centre.
 std::unique_ptr<RigidMotion> makeSubjectSceneMotion(const ViewGeometry& view, uint32_t seed);
 
+
+// HAPI's measured hand motion over a 7 s acquisition: the speed of the
+// imaged skin spot over the surface and the device's translation speed
+// (m/s). They describe the voluntary motion; tremor (8-12 Hz) comes on top.
+struct HandMotionStatistics {
+  double surface_mean = 9e-3, surface_max = 17e-3;
+  double translation_mean = 6e-3, translation_max = 12e-3;
+  double window = 7.0;  // s, the acquisition they were measured over
+};
+constexpr HandMotionStatistics kMeasuredHandMotion{};
+
+// The measurement scenario: a seeded slow drift and sway about the rest pose
+// whose voluntary part has kMeasuredHandMotion's means over its window (the
+// spot: the optical axis on the tangent plane at the view's surface point),
+// plus tremor unless `tremor` is false (the statistics are of that part).
+std::unique_ptr<RigidMotion> makeMeasurementTrajectory(const ViewGeometry& view, uint32_t seed, bool tremor = true);
+// ... and the scene motion that gives a device held at the rest pose the
+// same voluntary motion relative to the scene (T_IS = T_rest V(t)^-1).
+std::unique_ptr<RigidMotion> makeMeasurementSceneMotion(const ViewGeometry& view, uint32_t seed);
+// The stage: the scene translates along the view's `along` axis, still for
+// kStageStill, then a C2 ramp over kStageRamp to `speed` (m/s), constant after.
+constexpr double kStageStill = 0.5, kStageRamp = 0.5;  // s
+std::unique_ptr<RigidMotion> makeStageSceneMotion(const ViewGeometry& view, double speed);
+
 // Device motion and scene motion of a scenario (the scene is static except
-// for TrajectoryKind::Subject).
+// for the subject, measurement_subject and stage kinds; stage_speed in m/s).
 std::unique_ptr<RigidMotion> makeDeviceMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed);
-std::unique_ptr<RigidMotion> makeSceneMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed);
+std::unique_ptr<RigidMotion> makeSceneMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed,
+                                             double stage_speed = 0.005);
 
 }  // namespace hapi_sim

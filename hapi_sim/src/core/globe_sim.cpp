@@ -47,11 +47,9 @@ CameraInfoData StereoRigModel::leftInfo() const { return makeInfo(left, 0.0); }
 CameraInfoData StereoRigModel::rightInfo() const { return makeInfo(right, -right.fx * baseline); }
 
 Eigen::Vector2d distortNormalized(const CameraModel& c, const Eigen::Vector2d& xn) {
-  const double x = xn.x(), y = xn.y();
-  const double r2 = x * x + y * y;
-  const double rad = 1.0 + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
-  return {x * rad + 2 * c.p1 * x * y + c.p2 * (r2 + 2 * x * x),
-          y * rad + c.p1 * (r2 + 2 * y * y) + 2 * c.p2 * x * y};
+  Eigen::Vector2d xd;
+  distortNormalized(c, xn.x(), xn.y(), &xd.x(), &xd.y());
+  return xd;
 }
 
 Eigen::Vector2d undistortNormalized(const CameraModel& c, const Eigen::Vector2d& xd) {

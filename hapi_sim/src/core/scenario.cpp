@@ -34,12 +34,27 @@ StereoRigModel scaledRig(double s, const RealismProfile& profile) {
 }
 
 constexpr double kRightGainRatio = 0.97;  // the right sensor is 3 % less sensitive
+constexpr uint32_t kImagingCamera = 2;     // noise seeds: left 0, right 1, imaging 2
+
+std::unique_ptr<Scene> makeScene(const ScenarioConfig& c) {
+  switch (c.scene) {
+    case SceneKind::Globe: return makeGlobeSimScene(c.globe_texture);
+    case SceneKind::Skin: return makeSkinScene();
+    case SceneKind::Patch: return makePatchScene();
+  }
+  return nullptr;
+}
+
+int64_t countAt(double duration, double rate) {
+  return std::max<int64_t>(1, static_cast<int64_t>(std::floor(duration * rate + 1e-9)));
+}
 
 }  // namespace
 
 bool parseSceneKind(const std::string& name, SceneKind* kind) {
   if (name == "globe") { *kind = SceneKind::Globe; return true; }
   if (name == "skin") { *kind = SceneKind::Skin; return true; }
+  if (name == "patch") { *kind = SceneKind::Patch; return true; }
   return false;
 }
 
@@ -50,6 +65,15 @@ std::string ScenarioConfig::validate() const {
   if (!(exposure >= 0 && exposure < 1.0 / rate)) return "exposure must be in [0, 1/rate) s";
   if (!(blur_samples >= 1 && blur_samples <= 64)) return "blur samples must be in [1, 64]";
   if (!(image_scale >= 0.1 && image_scale <= 1.0)) return "image scale must be in [0.1, 1]";
+  if (!(imaging_rate == 0 || (imaging_rate >= 1 && imaging_rate <= 500 && exposure < 1.0 / imaging_rate)))
+    return "imaging rate must be 0 (none) or in [1, 500] Hz, a frame longer than the exposure";
+  const CameraModel cam = scaledRig(image_scale, RealismProfile::ideal()).left;
+  if ((imaging_pixel.x() >= 0 || imaging_pixel.y() >= 0) &&
+      !(imaging_pixel.x() >= 0 && imaging_pixel.x() <= cam.width - 1 && imaging_pixel.y() >= 0 &&
+        imaging_pixel.y() <= cam.height - 1))
+    return "imaging pixel must lie in the " + std::to_string(cam.width) + " x " + std::to_string(cam.height) +
+           " image";
+  if (!(stage_speed >= 0 && stage_speed <= 0.1)) return "stage speed must be in [0, 100] mm/s";
   return "";
 }
 
@@ -111,21 +135,25 @@ std::string CameraImuCalibration::yaml(const ImuSpec& imu, double imu_rate) cons
 Scenario::Scenario(const ScenarioConfig& config)
     : cfg_(config),
       profile_(RealismProfile::forLevel(config.realism)),
-      scene_(config.scene == SceneKind::Globe ? makeGlobeSimScene(config.globe_texture) : makeSkinScene()),
+      scene_(makeScene(config)),
       rig_(scaledRig(config.image_scale, profile_)),
       calib_(CameraImuCalibration::makeDefault()),
       believed_calib_(calib_.perturbed(profile_.calibration, config.seed)),
       imu_spec_(ImuSpec::adis16448()),
       device_(makeDeviceMotion(config.trajectory, scene_->view(), config.seed)),
-      scene_motion_(makeSceneMotion(config.trajectory, scene_->view(), config.seed)),
+      scene_motion_(makeSceneMotion(config.trajectory, scene_->view(), config.seed, config.stage_speed)),
       exposure_(config.seed, config.photometric) {
   sensor_.enabled = config.image_noise;
   ren_l_ = std::make_unique<SceneRenderer>(*scene_, rig_.left);
   ren_r_ = std::make_unique<SceneRenderer>(*scene_, rig_.right);
   frame_ns_ = std::llround(1e9 / cfg_.rate);
   imu_ns_ = std::llround(1e9 / cfg_.imu_rate);
-  n_frames_ = std::max<int64_t>(1, static_cast<int64_t>(std::floor(cfg_.duration * cfg_.rate + 1e-9)));
+  n_frames_ = countAt(cfg_.duration, cfg_.rate);
   n_imu_ = static_cast<int64_t>(std::floor(cfg_.duration * cfg_.imu_rate + 1e-9));
+  if (cfg_.imaging_rate > 0) {
+    imaging_ns_ = std::llround(1e9 / cfg_.imaging_rate);
+    n_imaging_ = countAt(cfg_.duration, cfg_.imaging_rate);
+  }
 }
 
 Scenario::~Scenario() = default;
@@ -137,34 +165,58 @@ MotionSample Scenario::leftCameraInScene(double t) const {
 }
 MotionSample Scenario::imuInInertial(double t) const { return attachedFrame(leftCameraInInertial(t), calib_.T_cam_imu); }
 
-void Scenario::renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const {
-  const double t = frameTimeNs(k) * 1e-9, e = cfg_.exposure;
+Eigen::Vector2d Scenario::imagingPixel() const {
+  if (cfg_.imaging_pixel.x() >= 0) return cfg_.imaging_pixel;
+  return {0.5 * (rig_.left.width - 1), 0.5 * (rig_.left.height - 1)};
+}
+
+SurfaceMotionTruth Scenario::surfaceMotion(double t) const {
+  return surfaceMotionTruth(*scene_, imagingCamera(), imagingPixel(), cfg_.imaging_rate, leftCameraInScene(t));
+}
+
+std::vector<Pose> Scenario::exposurePoses(double t) const {
+  const double e = cfg_.exposure;
   const int n = cfg_.blur_samples;
-  std::vector<Pose> pl, pr;
-  for (int j = 0; j < n; ++j) {
-    const Pose P = leftCameraInScene(t - 0.5 * e + (j + 0.5) * e / n).pose();
-    pl.push_back(P);
-    pr.push_back(rig_.rightPose(P));
-  }
+  std::vector<Pose> poses;
+  for (int j = 0; j < n; ++j) poses.push_back(leftCameraInScene(t - 0.5 * e + (j + 0.5) * e / n).pose());
+  return poses;
+}
+
+void Scenario::renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const {
+  const double t = frameTimeNs(k) * 1e-9;
+  const std::vector<Pose> pl = exposurePoses(t);
+  std::vector<Pose> pr;
+  for (const Pose& P : pl) pr.push_back(rig_.rightPose(P));
   const double g = gain(t);
   const uint32_t frame = static_cast<uint32_t>(k);
   *left = sensor_.expose(ren_l_->radiance(pl), g, mixSeed(cfg_.seed, frame, 0));
   *right = sensor_.expose(ren_r_->radiance(pr), g * kRightGainRatio, mixSeed(cfg_.seed, frame, 1));
 }
 
+cv::Mat Scenario::renderImaging(int64_t j) const {
+  const double t = imagingTimeNs(j) * 1e-9;
+  return sensor_.expose(ren_l_->radiance(exposurePoses(t)), gain(t),
+                        mixSeed(cfg_.seed, static_cast<uint32_t>(j), kImagingCamera));
+}
+
 ImuModel Scenario::makeImuModel() const {
   return ImuModel(imu_spec_, cfg_.imu_rate, cfg_.seed, cfg_.imu_noise, cfg_.imu_saturation, profile_.imu);
 }
 
-void Scenario::play(const ImuSink& on_imu, const FrameSink& on_frame) const {
+void Scenario::play(const ImuSink& on_imu, const FrameSink& on_frame, const ImagingSink& on_imaging) const {
   ImuModel imu = makeImuModel();
-  int64_t next_frame = 0, next_imu = 0;
-  while (next_frame < n_frames_ || next_imu < n_imu_) {
+  const int64_t n_imaging = on_imaging ? n_imaging_ : 0;
+  int64_t next_frame = 0, next_imu = 0, next_imaging = 0;
+  while (next_frame < n_frames_ || next_imu < n_imu_ || next_imaging < n_imaging) {
     const int64_t tf = next_frame < n_frames_ ? frameStampNs(next_frame) : INT64_MAX;
     const int64_t ti = next_imu < n_imu_ ? imuTimeNs(next_imu) : INT64_MAX;
-    if (ti <= tf) {
+    const int64_t tg = next_imaging < n_imaging ? imagingStampNs(next_imaging) : INT64_MAX;
+    if (ti <= tf && ti <= tg) {
       on_imu(next_imu, imu.measure(imuInInertial(ti * 1e-9)));
       ++next_imu;
+    } else if (tg < tf) {
+      on_imaging(next_imaging, renderImaging(next_imaging));
+      ++next_imaging;
     } else {
       cv::Mat l, r;
       renderStereo(next_frame, &l, &r);

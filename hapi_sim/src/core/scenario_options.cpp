@@ -4,22 +4,39 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include <Eigen/Core>
+
 #include "hapi_dataset/command_line.hpp"
 
 namespace hapi_sim {
+namespace {
+
+// "U,V": two numbers >= 0 (pixels).
+Eigen::Vector2d parsePixelArg(const std::string& k, const std::string& v) {
+  const size_t comma = v.find(',');
+  if (comma == std::string::npos) throw std::invalid_argument(k + " must be U,V (pixels), got '" + v + "'");
+  const Eigen::Vector2d px(hapi_dataset::parseNumberArg(k, v.substr(0, comma)),
+                           hapi_dataset::parseNumberArg(k, v.substr(comma + 1)));
+  if (!(px.x() >= 0 && px.y() >= 0)) throw std::invalid_argument(k + " must be U,V with U, V >= 0, got '" + v + "'");
+  return px;
+}
+
+}  // namespace
 
 const char* const kScenarioOptionsUsage =
-    "--scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest|orbit\n"
+    "--scene globe|skin|patch\n"
+    "  --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage\n"
     "  [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ] [--exposure-ms MS] [--blur-samples N]\n"
     "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]\n"
-    "  [--realism ideal|real]";
+    "  [--realism ideal|real] [--imaging-rate HZ (0: none)] [--imaging-pixel U,V (default: the centre)]\n"
+    "  [--stage-speed MM_S (stage; default 5)]";
 
 bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
   using hapi_dataset::parseFlagArg;
   using hapi_dataset::parseIntegerArg;
   using hapi_dataset::parseNumberArg;
   if (k == "--scene") {
-    if (!parseSceneKind(v, &cfg->scene)) throw std::invalid_argument("--scene must be globe or skin");
+    if (!parseSceneKind(v, &cfg->scene)) throw std::invalid_argument("--scene must be globe, skin or patch");
   } else if (k == "--trajectory") {
     if (!parseTrajectoryKind(v, &cfg->trajectory)) throw std::invalid_argument("unknown --trajectory " + v);
   } else if (k == "--seed") {
@@ -44,6 +61,12 @@ bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfi
     cfg->image_scale = parseNumberArg(k, v);
   } else if (k == "--realism") {
     if (!parseRealism(v, &cfg->realism)) throw std::invalid_argument("--realism must be ideal or real");
+  } else if (k == "--imaging-rate") {
+    cfg->imaging_rate = parseNumberArg(k, v);
+  } else if (k == "--imaging-pixel") {
+    cfg->imaging_pixel = parsePixelArg(k, v);
+  } else if (k == "--stage-speed") {
+    cfg->stage_speed = 1e-3 * parseNumberArg(k, v);
   } else if (k == "--texture") {
     cfg->globe_texture = v;
   } else {

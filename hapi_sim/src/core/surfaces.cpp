@@ -89,6 +89,33 @@ bool intersectSurface(const SurfaceSpec& s, const Eigen::Vector3d& o, const Eige
   return false;
 }
 
+Eigen::Vector3d surfaceNormal(const SurfaceSpec& s, const Eigen::Vector3d& X, const Eigen::Vector3d& d) {
+  Eigen::Vector3d n = s.axis;
+  if (s.type == SurfaceSpec::Sphere) n = (X - s.centre).normalized();
+  if (s.type == SurfaceSpec::Cylinder) {
+    const Eigen::Vector3d r = X - s.centre;
+    n = (r - r.dot(s.axis) * s.axis).normalized();
+  }
+  return n.dot(d) < 0 ? n : Eigen::Vector3d(-n);
+}
+
+bool intersectSurfaces(const std::vector<SurfaceSpec>& surfaces, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                       double* t, Eigen::Vector3d* normal) {
+  const SurfaceSpec* hit = nullptr;
+  double best = std::numeric_limits<double>::infinity();
+  for (const SurfaceSpec& s : surfaces) {
+    double ts;
+    if (intersectSurface(s, o, d, &ts) && ts < best) {
+      best = ts;
+      hit = &s;
+    }
+  }
+  if (!hit) return false;
+  *t = best;
+  *normal = surfaceNormal(*hit, o + best * d, d);
+  return true;
+}
+
 float Texture::sample(double u, double v) const {
   const int W = texels.cols, H = texels.rows;
   const double fu = std::floor(u), fv = std::floor(v);

@@ -4,8 +4,10 @@
 
 namespace hapi_sim {
 namespace {
-const char* const kNames[] = {"smooth", "handheld", "fast", "loop", "subject", "rest", "orbit"};
+const char* const kNames[] = {"smooth", "handheld", "fast",        "loop",                "subject",
+                              "rest",   "orbit",    "measurement", "measurement_subject", "stage"};
 constexpr int kCount = sizeof(kNames) / sizeof(kNames[0]);
+static_assert(kCount == static_cast<int>(TrajectoryKind::Stage) + 1, "one name per kind");
 }
 
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind) {
@@ -25,12 +27,18 @@ std::unique_ptr<RigidMotion> makeDeviceMotion(TrajectoryKind kind, const ViewGeo
     case TrajectoryKind::Subject: return makeStillTrajectory(view, seed);
     case TrajectoryKind::Rest: return makeStillTrajectory(view, seed, false);
     case TrajectoryKind::Orbit: return makeOrbitTrajectory(view);
+    case TrajectoryKind::Measurement: return makeMeasurementTrajectory(view, seed);
+    case TrajectoryKind::MeasurementSubject: return makeStillTrajectory(view, seed);
+    case TrajectoryKind::Stage: return makeStillTrajectory(view, seed, false);
   }
   return nullptr;
 }
 
-std::unique_ptr<RigidMotion> makeSceneMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed) {
+std::unique_ptr<RigidMotion> makeSceneMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed,
+                                             double stage_speed) {
   if (kind == TrajectoryKind::Subject) return makeSubjectSceneMotion(view, seed);
+  if (kind == TrajectoryKind::MeasurementSubject) return makeMeasurementSceneMotion(view, seed);
+  if (kind == TrajectoryKind::Stage) return makeStageSceneMotion(view, stage_speed);
   return std::make_unique<StaticMotion>();
 }
 

@@ -30,6 +30,27 @@ nav_msgs::Odometry toOdometryMsg(const ros::Time& t, const std::string& frame, c
   return o;
 }
 
+hapi_msgs::SurfaceMotion toSurfaceMotionMsg(const ros::Time& t, const std::string& frame, const SurfaceMotionTruth& m) {
+  static_assert(SurfaceMotionTruth::kStatusOk == hapi_msgs::SurfaceMotion::STATUS_OK &&
+                    SurfaceMotionTruth::kStatusRayMissesMap == hapi_msgs::SurfaceMotion::STATUS_RAY_MISSES_MAP,
+                "the core's status codes are the message's");
+  hapi_msgs::SurfaceMotion s;
+  s.header.stamp = t;
+  s.header.frame_id = frame;
+  s.status = static_cast<uint8_t>(m.status());
+  if (!m.hit) s.status_message = "the pixel's ray misses the scene";
+  s.u = m.pixel.x();
+  s.v = m.pixel.y();
+  s.frame_rate = m.frame_rate;
+  s.point = tf2::toMsg(m.point);
+  tf2::toMsg(m.normal, s.normal);
+  tf2::toMsg(m.surface_velocity, s.surface_velocity);
+  s.speed = m.speed;
+  s.normal_velocity = m.normal_velocity;
+  s.image_velocity = {m.image_velocity.x(), m.image_velocity.y()};
+  return s;
+}
+
 std::string globeInfoYaml(double radius, const Eigen::Vector3d& centre, const std::string& frame, uint32_t seed,
                           const std::string& texture) {
   std::ostringstream y;

@@ -1,12 +1,13 @@
 // make_sim_bag: writes one scenario of the hand-held simulation suite
 // (docs/DESIGN.md "Data") to a rosbag and/or a EuRoC/ASL folder.
 //
-//   make_sim_bag --scene globe|skin --trajectory smooth|handheld|fast|loop|subject|rest|orbit
+//   make_sim_bag --scene globe|skin|patch
+//                --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage
 //                [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]
 //                [--output FILE.bag] [--asl DIR]
 //                [--exposure-ms MS] [--blur-samples N] [--photometric 0|1]
 //                [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]
-//                [--realism ideal|real]
+//                [--realism ideal|real] [--imaging-rate HZ] [--imaging-pixel U,V] [--stage-speed MM_S]
 //
 // Topics (frames as make_globe_bag's; every stamp from the fixed epoch 1e9 s):
 //   /stereo/{left,right}/image_raw, camera_info  camera clock (t_imu - time offset)
@@ -24,6 +25,12 @@
 //   /ground_truth/scene    latched YAML of the scene's surfaces in world
 //   /ground_truth/calibration  latched YAML: the true T_cam_imu, time_offset_s and its sign, IMU noise
 //   /globe/info            (globe scene) latched, 1 Hz, as make_globe_bag
+// With --imaging-rate HZ > 0 (none by default: the bag is then as without it):
+//   /imaging/image_raw, camera_info  the imaging camera (the left camera at its own rate), mono8,
+//                          frame imaging_optical_frame, camera clock
+//   /tf_static             also stereo_left_optical_frame -> imaging_optical_frame (identity)
+//   /ground_truth/surface_motion  hapi_msgs/SurfaceMotion at IMU rate (true clock): the truth at
+//                          the imaging pixel, status RAY_MISSES_MAP when its ray misses the scene
 // Ground truth is stamped in the true (IMU) clock. Same arguments -> the same
 // bytes (rosbag writes no wall-clock time).
 #include <geometry_msgs/PoseStamped.h>
@@ -52,6 +59,7 @@ using namespace hapi_dataset::recording_frames;
 constexpr const char* kInertial = "inertial";
 constexpr const char* kGtImu = "ground_truth/imu_link";
 constexpr const char* kCaller = "/make_sim_bag";
+constexpr const char* kImaging = "imaging_optical_frame";
 
 struct Options {
   ScenarioConfig cfg;
@@ -99,9 +107,14 @@ int main(int argc, char** argv) {
   const Options opt = parse(argc, argv);
   const Scenario sc(opt.cfg);
   const bool globe = opt.cfg.scene == SceneKind::Globe;
+  const bool imaging = sc.imagingCount() > 0;
   std::cerr << "[make_sim_bag] scene " << sc.scene().name() << ", trajectory " << trajectoryName(opt.cfg.trajectory)
             << ", seed " << opt.cfg.seed << ": " << sc.frameCount() << " stereo frames at " << opt.cfg.rate << " Hz, "
-            << sc.imuCount() << " IMU samples at " << opt.cfg.imu_rate << " Hz\n";
+            << sc.imuCount() << " IMU samples at " << opt.cfg.imu_rate << " Hz";
+  if (imaging)
+    std::cerr << ", " << sc.imagingCount() << " imaging frames at " << opt.cfg.imaging_rate << " Hz (pixel "
+              << sc.imagingPixel().x() << ", " << sc.imagingPixel().y() << ")";
+  std::cerr << "\n";
 
   std::unique_ptr<rosbag::Bag> bag;
   if (!opt.output.empty()) {
@@ -131,13 +144,15 @@ int main(int argc, char** argv) {
     st.transforms.push_back(toTransformMsg(t0, kLeft, kRight, Eigen::Vector3d(sc.rig().baseline, 0, 0),
                                            Eigen::Quaterniond::Identity()));
     st.transforms.push_back(toTransformMsg(t0, kLeft, kImu, told.T_cam_imu.p, told.T_cam_imu.q));
+    if (imaging)
+      st.transforms.push_back(toTransformMsg(t0, kLeft, kImaging, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity()));
     bag->write("/tf_static", t0, st, latchedHeader<tf2_msgs::TFMessage>(kCaller));
     bag->write("/ground_truth/scene", t0, text(sc.scene().yaml()), latchedHeader<std_msgs::String>(kCaller));
     bag->write("/ground_truth/calibration", t0, text(sc.calibrationYaml()), latchedHeader<std_msgs::String>(kCaller));
     if (opt.cfg.realism != Realism::Ideal)
       bag->write("/calibration", t0, text(sc.believedCalibrationYaml()), latchedHeader<std_msgs::String>(kCaller));
   }
-  const CameraInfoData ci_l = sc.rig().leftInfo(), ci_r = sc.rig().rightInfo();
+  const CameraInfoData ci_l = sc.rig().leftInfo(), ci_r = sc.rig().rightInfo(), ci_imaging = sc.imagingInfo();
   ImuModel imu_model = sc.makeImuModel();
   const double sg2 = std::pow(imu_model.gyroSigma(), 2), sa2 = std::pow(imu_model.accelSigma(), 2);
   const int64_t frames_per_second = std::max<int64_t>(1, std::llround(opt.cfg.rate));
@@ -153,6 +168,8 @@ int main(int argc, char** argv) {
           const double t = ns * 1e-9;
           bag->write("/ground_truth/odometry", stamp, toOdometryMsg(stamp, kWorld, kGt, sc.leftCameraInScene(t)));
           bag->write("/ground_truth/imu_odometry", stamp, toOdometryMsg(stamp, kInertial, kGtImu, sc.imuInInertial(t)));
+          if (imaging)
+            bag->write("/ground_truth/surface_motion", stamp, toSurfaceMotionMsg(stamp, kImaging, sc.surfaceMotion(t)));
         },
         [&](int64_t k, const cv::Mat& left, const cv::Mat& right) {
           if (asl) asl->addFrame(k, left, right);
@@ -182,6 +199,17 @@ int main(int argc, char** argv) {
           }
           if ((k + 1) % 10 == 0 || k + 1 == sc.frameCount())
             std::cerr << "[make_sim_bag] frame " << k + 1 << "/" << sc.frameCount() << "\n";
+        },
+        !imaging ? Scenario::ImagingSink() : [&](int64_t j, const cv::Mat& image) {
+          if (asl) asl->addImaging(j, image);
+          if (!bag) return;
+          const ros::Time stamp = stampAt(sc.imagingStampNs(j));
+          std_msgs::Header h;
+          h.stamp = stamp;
+          h.frame_id = kImaging;
+          h.seq = static_cast<uint32_t>(j);
+          bag->write("/imaging/camera_info", stamp, toCameraInfoMsg(ci_imaging, h));
+          bag->write("/imaging/image_raw", stamp, toImageMsg(image, h));
         });
     if (asl) asl->close();
   } catch (const std::exception& e) {
