@@ -97,11 +97,14 @@ InputError convertToGrey(const RawImageView& im, int mono16_bits, cv::Mat* grey)
                 "encoding '" + im.encoding + "' (accepted: " + greyEncodingsText() + ")");
   if (im.width == 0 || im.height == 0 || im.data == nullptr) return fail("malformed_image", "image has zero size");
   const std::uint64_t row = static_cast<std::uint64_t>(im.width) * bpp;
-  if (im.width > 1u << 15 || im.height > 1u << 15 || im.step < row ||
-      im.size < static_cast<std::uint64_t>(im.step) * im.height) {
+  // cv::Mat sizes are int: a side beyond 2^15 is no camera image.
+  if (im.width > 1u << 15 || im.height > 1u << 15)
+    return fail("malformed_image", "image of " + std::to_string(im.width) + "x" + std::to_string(im.height) +
+                                       " px (at most 32768 a side)");
+  if (im.step < row || im.size < static_cast<std::uint64_t>(im.step) * im.height) {
     std::ostringstream os;
     os << "buffer does not hold the image: " << im.width << "x" << im.height << " " << im.encoding << ", step "
-       << im.step << ", data " << im.size << " bytes (at most 32768 px a side)";
+       << im.step << ", data " << im.size << " bytes";
     return fail("malformed_image", os.str());
   }
   const int type = bpp == 1 ? CV_8UC1 : bpp == 2 ? CV_16UC1 : bpp == 3 ? CV_8UC3 : im.encoding == "bgra8" ? CV_8UC4 : CV_32FC1;
