@@ -2,7 +2,6 @@
 // only place an image-flow range is written.
 #include "hapi_frontend/image_flow_params.hpp"
 
-#include <sstream>
 
 namespace hapi_frontend {
 
@@ -54,28 +53,13 @@ void ImageFlowParams::visit(ParamVisitor& vis) {
 }
 
 std::vector<std::string> ImageFlowParams::problems() const {
-  RangeChecker check;
-  ImageFlowParams copy = *this;  // visit() hands out mutable fields; the checker only reads
-  copy.visit(check);
-  std::vector<std::string> out = check.problems();
+  std::vector<std::string> out = rangeProblems(*this);
   if (lk_window % 2 == 0) out.push_back("lk_window must be odd, got " + std::to_string(lk_window));
-  if (min_inliers > max_features) {
-    std::ostringstream os;
-    os << "min_inliers must be <= max_features, got " << min_inliers << " and " << max_features;
-    out.push_back(os.str());
-  }
-  if (outlier_sigmas < huber_k) {
-    std::ostringstream os;
-    os << "outlier_sigmas must be >= huber_k, got " << outlier_sigmas << " and " << huber_k;
-    out.push_back(os.str());
-  }
+  checkRelation(min_inliers <= max_features, "min_inliers", min_inliers, "<=", "max_features", max_features, &out);
+  checkRelation(outlier_sigmas >= huber_k, "outlier_sigmas", outlier_sigmas, ">=", "huber_k", huber_k, &out);
   return out;
 }
 
-std::string ImageFlowParams::validate() const {
-  std::string all;
-  for (const std::string& p : problems()) all += (all.empty() ? "" : "; ") + p;
-  return all;
-}
+std::string ImageFlowParams::validate() const { return joinProblems(problems()); }
 
 }  // namespace hapi_frontend

@@ -31,9 +31,7 @@ void readFrontendParams(hapi_nodelet_kit::ParamReader& reader, FrontendNodeletPa
   p->visit(read);
   p->time_jump_reset = hapi_nodelet_kit::readTimeJumpReset(reader, kOldTimeJumpResetName);
 
-  RangeChecker own;
-  p->visit(own);
-  for (const std::string& e : own.problems()) reader.error("~" + e);
+  for (const std::string& e : rangeProblems(*p)) reader.error("~" + e);
   for (const std::string& e : p->pipeline.problems()) reader.error("~" + e);
   reader.warnAboutUnknown("config/frontend.yaml");
 }

@@ -17,9 +17,7 @@ void readImagingFlowParams(hapi_nodelet_kit::ParamReader& reader, ImagingFlowNod
   ParamServerReader read(reader);
   p->flow.visit(read);
   p->visit(read);
-  RangeChecker own;
-  p->visit(own);
-  for (const std::string& e : own.problems()) reader.error("~" + e);
+  for (const std::string& e : rangeProblems(*p)) reader.error("~" + e);
   for (const std::string& e : p->flow.problems()) reader.error("~" + e);
   reader.warnAboutUnknown("docs/RUNNING.md (image flow)");
 }
