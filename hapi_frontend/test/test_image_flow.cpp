@@ -76,7 +76,36 @@ TEST(ImageFlowTracker, FlowIsAboutTheConfiguredPixel) {
   EXPECT_DOUBLE_EQ(r.v, 60);
 }
 
-TEST(ImageFlowTracker, ForwardBackwardCheckAndRobustFitIgnoreAnOccluder) {
+TEST(ImageFlowTracker, ForwardBackwardCheckDropsTracksThatDoNotReturn) {
+  // In the second frame a square next to the pixel shows another part of
+  // the texture: its corners find some match forwards but do not come back.
+  const WaveTexture tex(37);
+  auto frame = [&](double dx, bool swapped) {
+    return tex.render(kW, kH, [&](int x, int y, double* sx, double* sy) {
+      const bool inside = swapped && x > kCu - 40 && x < kCu && y > kCv && y < kCv + 40;
+      *sx = x - dx;
+      *sy = inside ? y + 300 : y;
+    });
+  };
+  auto run = [&](double fb_threshold) {
+    ImageFlowParams p;
+    p.fb_threshold = fb_threshold;
+    ImageFlowTracker tracker(p);
+    ImageFlowResult r;
+    EXPECT_FALSE(tracker.process(frame(0, false), 1'000'000'000, &r));
+    EXPECT_FALSE(tracker.process(frame(0.7, true), 1'000'000'000 + kFrameNs, &r));
+    return r;
+  };
+  const ImageFlowResult checked = run(ImageFlowParams().fb_threshold), unchecked = run(1e6);
+  ASSERT_EQ(checked.status, FlowStatus::kOk);
+  EXPECT_EQ(checked.tracked, unchecked.tracked);
+  EXPECT_LE(checked.inliers, checked.consistent);
+  EXPECT_LE(checked.consistent + 10, unchecked.consistent) << "the check dropped (almost) nothing";
+  EXPECT_NEAR(checked.affine(0), 0.7, 0.02);
+  EXPECT_NEAR(checked.affine(1), 0.0, 0.02);
+}
+
+TEST(ImageFlowTracker, OccluderMovingOtherwiseIsIgnored) {
   // A textured occluder that moves differently covers a quarter of the
   // search square: the flow of the background is still measured.
   const WaveTexture tex(17);

@@ -36,6 +36,7 @@ struct ImageFlowResult {
   Eigen::Matrix<double, 6, 1> affine = Eigen::Matrix<double, 6, 1>::Zero();      // [px/frame, 1/frame]
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // zero unless kOk
   std::uint32_t inliers = 0, tracked = 0;
+  std::uint32_t consistent = 0;  // tracks that passed the forward-backward check (inliers <= consistent <= tracked)
   double sigma = 0;  // [px] residual sigma of the fit (kOk)
   // kFirstFrame: why ("start", "stamp_not_increasing", "gap", "size_changed").
   std::string restart_reason;

@@ -87,6 +87,7 @@ void ImageFlowTracker::track(const std::vector<cv::Mat>& pyramid, ImageFlowResul
     from.emplace_back(Eigen::Vector2d(previous_corners_[i].x, previous_corners_[i].y) + offset);
     moved.emplace_back(ahead[i].x - previous_corners_[i].x, ahead[i].y - previous_corners_[i].y);
   }
+  out->consistent = static_cast<std::uint32_t>(from.size());
   const AffineFlowFit fit = fitAffineFlow(from, moved, pixel_, fit_);
   out->inliers = static_cast<std::uint32_t>(fit.inliers);
   if (!fit.ok) return;
