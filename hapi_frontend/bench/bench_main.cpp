@@ -5,11 +5,10 @@
 // configuration, plus the accuracy of the same run as a sanity check.
 //
 //   hapi_frontend_bench [--frames N] [--reps R] [--width W --height H]
+#include "bench_clock.hpp"
 #include "globe_eval.hpp"
 
 #include <opencv2/core/utility.hpp>
-
-#include <time.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -20,6 +19,8 @@
 
 using namespace hapi_frontend;
 using namespace hapi_frontend::globe_eval;
+using hapi_frontend_bench::med;
+using hapi_frontend_bench::threadCpuMs;
 
 namespace {
 struct Row {
@@ -28,20 +29,6 @@ struct Row {
   int landmarks = 0, wrong = 0, frames = 0;
   std::vector<double> rel;
 };
-
-// CPU time of this thread [ms]: on a shared machine, wall time includes the
-// time other processes hold the core; thread CPU time does not.
-double threadCpuMs() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-double med(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 Row runConfig(const std::string& name, const PipelineParams& pp, const GlobeWorld& w,
               const std::vector<GlobePair>& pairs, int reps) {

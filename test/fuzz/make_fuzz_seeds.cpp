@@ -1,6 +1,6 @@
 // Writes the seed corpus of the fuzz targets: a few valid inputs per target
 // (and one near-miss each) in the record format of bounded_message.hpp.
-//   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed}/seed_*
+//   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed,image_flow}/seed_*
 // Deterministic (fixed seeds): rerunning it rewrites the same files.
 #include "bounded_message.hpp"
 #include "synthetic_frames.hpp"
@@ -164,6 +164,46 @@ void compressed(const std::string& dir) {
   write(dir, "seed_mono16_png", encode(m16, ".png", "mono16; png compressed "));
 }
 
+// Image flow: a texture moving by a sub-pixel step in mono8; the same in
+// other encodings (bgr8, big-endian mono16, a 32FC1 map with a NaN); and a
+// sequence whose stamps go back, jump and whose size changes.
+void imageFlow(const std::string& dir) {
+  namespace enc = sensor_msgs::image_encodings;
+  const int w = 64, h = 48;
+  const cv::Mat big = texture(w + 8, h + 8);
+  auto frame = [&](int k, const std::string& encoding, double t) {
+    cv::Mat g = big(cv::Rect(k, k / 2, w, h)).clone(), m;
+    if (encoding == enc::BGR8) cv::cvtColor(g, m, cv::COLOR_GRAY2BGR);
+    else if (encoding == enc::MONO16) g.convertTo(m, CV_16U, 16.0);
+    else if (encoding == enc::TYPE_32FC1) g.convertTo(m, CV_32F, 0.1);
+    else m = g;
+    if (encoding == enc::TYPE_32FC1) m.at<float>(3, 3) = std::numeric_limits<float>::quiet_NaN();
+    sensor_msgs::Image i = image(m, encoding);
+    i.header.stamp = ros::Time(t);
+    if (encoding == enc::MONO16) {
+      i.is_bigendian = 1;
+      for (std::size_t b = 0; b + 1 < i.data.size(); b += 2) std::swap(i.data[b], i.data[b + 1]);
+    }
+    return i;
+  };
+  Bytes mono;
+  for (int k = 0; k < 4; ++k) hapi_fuzz::appendRecord(frame(k, enc::MONO8, 1.0 + 0.025 * k), &mono);
+  write(dir, "seed_mono8_sequence", mono);
+  Bytes encodings;
+  hapi_fuzz::appendRecord(frame(0, enc::BGR8, 1.0), &encodings);
+  hapi_fuzz::appendRecord(frame(1, enc::MONO16, 1.025), &encodings);
+  hapi_fuzz::appendRecord(frame(2, enc::TYPE_32FC1, 1.05), &encodings);
+  write(dir, "seed_encodings", encodings);
+  Bytes restarts;
+  hapi_fuzz::appendRecord(frame(0, enc::MONO8, 2.0), &restarts);
+  hapi_fuzz::appendRecord(frame(1, enc::MONO8, 1.9), &restarts);  // back
+  hapi_fuzz::appendRecord(frame(2, enc::MONO8, 9.0), &restarts);  // gap
+  sensor_msgs::Image small = image(big(cv::Rect(0, 0, 20, 16)).clone(), enc::MONO8);
+  small.header.stamp = ros::Time(9.025);
+  hapi_fuzz::appendRecord(small, &restarts);  // size change
+  write(dir, "seed_restarts", restarts);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -177,5 +217,6 @@ int main(int argc, char** argv) {
   imu(out + "/imu");
   imagePairs(out + "/image_pair");
   compressed(out + "/compressed");
+  imageFlow(out + "/image_flow");
   return 0;
 }

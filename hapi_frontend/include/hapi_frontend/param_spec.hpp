@@ -91,6 +91,23 @@ class RangeChecker : public ParamVisitor {
   std::vector<std::string> problems_;
 };
 
+// The checkValue() message of every field of `settings` (any struct with
+// visit(ParamVisitor&)) that violates its declaration.
+template <typename Settings>
+std::vector<std::string> rangeProblems(Settings settings) {  // a copy: visit() hands out mutable fields
+  RangeChecker check;
+  settings.visit(check);
+  return check.problems();
+}
+
+// Adds "<a> must be <op> <b>, got <va> and <vb>" to *problems unless ok: a
+// relation between two settings.
+void checkRelation(bool ok, const std::string& a, double va, const char* op, const std::string& b, double vb,
+                   std::vector<std::string>* problems);
+
+// problems joined with "; ", empty when there are none.
+std::string joinProblems(const std::vector<std::string>& problems);
+
 // Sets the one field declared as `name` from its text, the way the offline
 // tools take settings on their command lines (name=value): "true"/"false" or
 // 1/0 for flags, whole numbers for int fields; the declared range applies.

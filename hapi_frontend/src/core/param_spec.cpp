@@ -3,6 +3,7 @@
 #include "hapi_frontend/param_spec.hpp"
 
 #include <cstdlib>
+#include <sstream>
 
 namespace hapi_frontend {
 
@@ -25,6 +26,20 @@ std::string checkValue(const ParamSpec& spec, const std::string& value) {
     list += (list.empty() ? "" : ", ") + c;
   }
   return std::string(spec.name) + " must be one of " + list + ", got '" + value + "'";
+}
+
+void checkRelation(bool ok, const std::string& a, double va, const char* op, const std::string& b, double vb,
+                   std::vector<std::string>* problems) {
+  if (ok) return;
+  std::ostringstream os;
+  os << a << " must be " << op << " " << b << ", got " << va << " and " << vb;
+  problems->push_back(os.str());
+}
+
+std::string joinProblems(const std::vector<std::string>& problems) {
+  std::string all;
+  for (const std::string& p : problems) all += (all.empty() ? "" : "; ") + p;
+  return all;
 }
 
 bool TextSetter::matches(const ParamSpec& spec) {

@@ -3,7 +3,6 @@
 // place a front-end range is written.
 #include "hapi_frontend/pipeline_params.hpp"
 
-#include <sstream>
 
 namespace hapi_frontend {
 
@@ -80,29 +79,16 @@ void PipelineParams::visit(ParamVisitor& v) {
 }
 
 std::vector<std::string> PipelineParams::problems() const {
-  RangeChecker check;
-  PipelineParams copy = *this;  // visit() hands out mutable fields; the checker only reads
-  copy.visit(check);
-  std::vector<std::string> out = check.problems();
-  auto relation = [&](bool ok, const std::string& a, double va, const char* op, const std::string& b, double vb) {
-    if (ok) return;
-    std::ostringstream os;
-    os << a << " must be " << op << " " << b << ", got " << va << " and " << vb;
-    out.push_back(os.str());
-  };
+  std::vector<std::string> out = rangeProblems(*this);
   // Not enough keypoints could never give N landmarks.
-  relation(detector_features >= landmarks_per_frame, "detector_features", detector_features, ">=",
-           "landmarks_per_frame", landmarks_per_frame);
-  relation(min_depth < max_depth, "min_depth", min_depth, "<", "max_depth", max_depth);
-  relation(match.min_disparity < match.max_disparity, "min_disparity", match.min_disparity, "<", "max_disparity",
-           match.max_disparity);
+  checkRelation(detector_features >= landmarks_per_frame, "detector_features", detector_features, ">=",
+                "landmarks_per_frame", landmarks_per_frame, &out);
+  checkRelation(min_depth < max_depth, "min_depth", min_depth, "<", "max_depth", max_depth, &out);
+  checkRelation(match.min_disparity < match.max_disparity, "min_disparity", match.min_disparity, "<",
+                "max_disparity", match.max_disparity, &out);
   return out;
 }
 
-std::string PipelineParams::validate() const {
-  std::string all;
-  for (const std::string& p : problems()) all += (all.empty() ? "" : "; ") + p;
-  return all;
-}
+std::string PipelineParams::validate() const { return joinProblems(problems()); }
 
 }  // namespace hapi_frontend

@@ -3,33 +3,12 @@
 // them against the same declarations.
 #include "frontend_params.hpp"
 
+#include "hapi_frontend/grey_convert.hpp"
+#include "param_server_reader.hpp"
+
 #include <hapi_nodelet_kit/time_jump_reset_param.hpp>
 
 namespace hapi_frontend {
-namespace {
-
-// Reads each declared ROS parameter (internal core values are skipped).
-class ParamServerReader : public ParamVisitor {
- public:
-  explicit ParamServerReader(hapi_nodelet_kit::ParamReader& r) : r_(r) {}
-  void visit(const ParamSpec& spec, bool& value) override { read(spec, &value); }
-  void visit(const ParamSpec& spec, int& value) override { read(spec, &value); }
-  void visit(const ParamSpec& spec, double& value) override { read(spec, &value); }
-  void visit(const ParamSpec& spec, std::string& value) override { read(spec, &value); }
-
- private:
-  template <typename T>
-  void read(const ParamSpec& spec, T* value) {
-    if (spec.internal) return;
-    if (spec.deprecated_name)
-      r_.readRenamed(spec.name, spec.deprecated_name, value);
-    else
-      r_.read(spec.name, value);
-  }
-  hapi_nodelet_kit::ParamReader& r_;
-};
-
-}  // namespace
 
 void FrontendNodeletParams::visit(ParamVisitor& v) {
   using R = NumberRange;
@@ -39,14 +18,11 @@ void FrontendNodeletParams::visit(ParamVisitor& v) {
   static const S kSlop = S::number("approx_slop", R::open(0, 1), "s",
                                    "approximate mode: largest accepted |t_left - t_right|");
   static const S kTransport = S::text("image_transport", {}, "image_transport plugin of both images (raw, compressed)");
-  // A 16-bit container holds at most 16 significant bits; a camera with 8 or
-  // fewer would send mono8.
-  static const S kMono16 = S::number("mono16_bits", R::closed(8, 16), "", "significant bits of mono16 images");
   v.visit(kApprox, approximate_sync);
   v.visit(kQueue, queue_size);
   v.visit(kSlop, approx_slop);
   v.visit(kTransport, image_transport);
-  v.visit(kMono16, mono16_bits);
+  v.visit(mono16BitsSpec(), mono16_bits);
 }
 
 void readFrontendParams(hapi_nodelet_kit::ParamReader& reader, FrontendNodeletParams* p) {
@@ -55,9 +31,7 @@ void readFrontendParams(hapi_nodelet_kit::ParamReader& reader, FrontendNodeletPa
   p->visit(read);
   p->time_jump_reset = hapi_nodelet_kit::readTimeJumpReset(reader, kOldTimeJumpResetName);
 
-  RangeChecker own;
-  p->visit(own);
-  for (const std::string& e : own.problems()) reader.error("~" + e);
+  for (const std::string& e : rangeProblems(*p)) reader.error("~" + e);
   for (const std::string& e : p->pipeline.problems()) reader.error("~" + e);
   reader.warnAboutUnknown("config/frontend.yaml");
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "hapi_frontend/camera_model.hpp"
+#include "hapi_frontend/input_error.hpp"
 
 #include <opencv2/core.hpp>
 #include <sensor_msgs/CameraInfo.h>
@@ -14,12 +15,6 @@
 
 namespace hapi_frontend {
 
-// Short machine-readable reason (a diagnostics counter key) + human detail.
-struct InputError {
-  std::string reason;  // empty = no error
-  std::string detail;
-  explicit operator bool() const { return !reason.empty(); }
-};
 
 struct GreyImage {
   cv::Mat gray;    // CV_8UC1

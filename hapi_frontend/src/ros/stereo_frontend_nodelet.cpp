@@ -127,19 +127,7 @@ void StereoFrontendNodelet::startDiagnostics() {
 
 void StereoFrontendNodelet::reject(const std::string& reason, const std::string& detail) {
   diag_.rejected(reason, detail);
-  // Rate-limited per reason (not per call site like NODELET_ERROR_THROTTLE),
-  // so a flood of one kind of bad input never hides another kind.
-  const ros::WallTime now = ros::WallTime::now();
-  bool log = false;
-  {
-    std::lock_guard<std::mutex> lock(log_mutex_);
-    ros::WallTime& last = last_error_log_[reason];
-    if (last.isZero() || (now - last).toSec() >= kErrorLogPeriodS) {
-      last = now;
-      log = true;
-    }
-  }
-  if (log) NODELET_ERROR("rejected stereo frame [%s]: %s", reason.c_str(), detail.c_str());
+  if (error_log_.shouldLog(reason)) NODELET_ERROR("rejected stereo frame [%s]: %s", reason.c_str(), detail.c_str());
 }
 
 void StereoFrontendNodelet::onExactDrop(const sensor_msgs::ImageConstPtr&, const sensor_msgs::CameraInfoConstPtr&,

@@ -16,6 +16,7 @@
 
 #include "frontend_diagnostics.hpp"
 #include "frontend_params.hpp"
+#include "reason_throttle.hpp"
 #include "hapi_frontend/stereo_pipeline.hpp"
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -95,10 +96,8 @@ class StereoFrontendNodelet : public nodelet::Nodelet {
   hapi_nodelet_kit::Mailbox<Frame> mailbox_;
   std::thread worker_;
 
-  // Per-reason rate limit of the rejection log.
-  static constexpr double kErrorLogPeriodS = 2.0;
-  std::mutex log_mutex_;
-  std::map<std::string, ros::WallTime> last_error_log_;
+  // Per-reason rate limit of the rejection log (one per 2 s).
+  ReasonThrottle error_log_{2.0};
 
   // Worker-only state.
   Info calib_left_, calib_right_;

@@ -1,0 +1,44 @@
+// Thread-safe counters of ImagingFlowNodelet, published as one
+// diagnostic_updater task: frames, flows published by status, restarts by
+// reason, bad images by reason, tracker time and inliers.
+#pragma once
+
+#include "hapi_frontend/image_flow_tracker.hpp"
+
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <ros/time.h>
+
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace hapi_frontend {
+
+class ImagingFlowDiagnostics {
+ public:
+  void frame() { bump(&frames_); }
+  // A flow message left (any status), `ms` the tracker's time on the frame.
+  void published(const ImageFlowResult& result, double ms);
+  void badImage(const std::string& reason, const std::string& detail);
+
+  void produce(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  std::uint64_t badImages(const std::string& reason) const;
+
+ private:
+  void bump(std::uint64_t* counter) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++*counter;
+  }
+  mutable std::mutex mutex_;
+  std::uint64_t frames_ = 0, flows_ = 0, flows_ok_ = 0, too_few_ = 0;
+  std::map<std::string, std::uint64_t> restarts_, bad_;
+  std::string last_bad_;
+  // Window since the last produce().
+  ros::WallTime window_start_ = ros::WallTime::now();
+  std::uint64_t win_frames_ = 0, win_ok_ = 0, win_bad_ = 0, win_inliers_ = 0;
+  double win_ms_ = 0, win_max_ms_ = 0;
+};
+
+}  // namespace hapi_frontend
