@@ -1,12 +1,16 @@
 #!/usr/bin/env python3
 """surface_motion_replay end to end on generated text inputs: a still camera
 over a skin plane at 0.3 m (its map snapshots), the skin sliding at a known
-velocity seen by 40 Hz image flow with 0.02 px noise. Checks the output
-format (the columns of docs/DESIGN.md "Surface motion"), the statuses (no
-depth before the first map snapshot, OK after), the causal on-surface
-velocity's RMS error and the smoothed output's (smaller).
+velocity (8 mm/s at 0.5 Hz and 4 mm/s, with a 1 mm/s tremor at 10 Hz) seen
+by 40 Hz image flow with 0.02 px noise, 10 ms late. Checks the output format
+(the columns of docs/DESIGN.md "Surface motion"), the statuses (no depth
+before the first map snapshot, OK after), the causal on-surface velocity's
+RMS error and the smoothed output's (smaller), and prints both.
 
-  surface_motion_replay_test.py SURFACE_MOTION_REPLAY
+  surface_motion_replay_test.py SURFACE_MOTION_REPLAY [key=value ...]
+
+key=value settings go to the tool (a study of a setting: the error bounds
+are then not checked).
 """
 import math
 import pathlib
@@ -20,11 +24,11 @@ FX, DEPTH, RATE, ODOM_RATE, DURATION = 500.0, 0.3, 40.0, 200.0, 3.0
 
 def skin_velocity(t):
     """[m/s] in the plane."""
-    return 0.008 * math.sin(2 * math.pi * 0.5 * t), 0.004
+    return 0.008 * math.sin(2 * math.pi * 0.5 * t) + 0.001 * math.sin(2 * math.pi * 10 * t), 0.004
 
 
 def main():
-    tool = sys.argv[1]
+    tool, settings = sys.argv[1], sys.argv[2:]
     rng = random.Random(4)
     with tempfile.TemporaryDirectory() as tmp:
         d = pathlib.Path(tmp)
@@ -56,7 +60,8 @@ def main():
                 f.write(" ".join(f"{x:.9g}" for x in row) + "\n")
         subprocess.run([tool, "--odom", str(d / "imu_rate.txt"), "--map", str(d / "map.txt"), "--flow",
                         str(d / "flow.txt"), "--intrinsics", f"{FX} {FX} 319.5 239.5 640 480 {RATE}", "--flow-latency",
-                        "0.01", "--out", str(d / "out.txt"), "--smoothed", str(d / "smoothed.txt")], check=True)
+                        "0.01", "--out", str(d / "out.txt"), "--smoothed", str(d / "smoothed.txt")] + settings,
+                       check=True)
         errors = {}
         for name in ("out.txt", "smoothed.txt"):
             rows = [list(map(float, line.split())) for line in open(d / name) if not line.startswith("#")]
@@ -75,8 +80,9 @@ def main():
             errors[name] = math.sqrt(sum(sq) / len(sq))
         print(f"on-surface velocity RMS error: causal {errors['out.txt']:.3f} mm/s, "
               f"smoothed {errors['smoothed.txt']:.3f} mm/s")
-        assert errors["out.txt"] < 1.0, errors
-        assert errors["smoothed.txt"] < errors["out.txt"], errors
+        if not settings:
+            assert errors["out.txt"] < 1.6, errors
+            assert errors["smoothed.txt"] < 0.8 * errors["out.txt"], errors
     return 0
 
 
