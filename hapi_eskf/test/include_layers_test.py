@@ -23,6 +23,7 @@ ALLOWED = {
     "seif": {"backend", "covariance", "eskf"},
     "graph": {"backend", "covariance", "eskf"},
     "fastslam": {"backend"},
+    "surface_motion": set(),
 }
 # The top: the factory and the settings that compose every part's table
 # (settings.hpp) sit above every folder; the rest of the top-level

@@ -18,7 +18,11 @@
 // PREFIX_frame_twist.txt (per frame: t, the filter's camera-frame linear and
 // angular velocity) and PREFIX_anchor.txt (the instant and camera pose that
 // define the filter's world: the reset, or the gravity alignment), for
-// tools/eval/accuracy.py.
+// tools/eval/accuracy.py, and PREFIX_map.txt (every map_publish_rate period
+// of stream time, after the frame that ends it, the landmarks' positions in
+// the filter's world, the frame of PREFIX_imu_rate.txt's poses, as the
+// nodelet's map snapshot gives them: one line "t N x1 y1 z1 ... xN yN zN"),
+// for surface_motion_replay.
 //
 // Without overrides it runs the default EskfSettings, i.e. the tuned filter of
 // config/eskf.yaml. key=value overrides any EskfSettings field (same names as
@@ -52,6 +56,13 @@
 using namespace hapi_eskf;
 
 namespace {
+
+// The nodelet's parameter defaults (ros/nodelet_params.def, plain types only).
+struct NodeletDefaults {
+#define HAPI_FIELD(type, name, default_value, range, unit, doc) type name = default_value;
+#include "hapi_eskf/ros/nodelet_params.def"
+#undef HAPI_FIELD
+};
 
 // Umeyama without scale: R, t minimising sum |R e + t - g|^2.
 void alignRigid(const std::vector<Vec3>& e, const std::vector<Vec3>& g, Mat3* R, Vec3* t) {
@@ -155,6 +166,18 @@ int main(int argc, char** argv) {
   std::FILE* twist_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_frame_twist.txt").c_str(), "w");
   std::FILE* rate_file =
       out_prefix.empty() || !use_imu ? nullptr : std::fopen((out_prefix + "_imu_rate.txt").c_str(), "w");
+  std::FILE* map_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_map.txt").c_str(), "w");
+  // The nodelet's default ~map_publish_rate, in stream time.
+  const double map_period = 1.0 / NodeletDefaults().map_publish_rate;
+  double next_map_snapshot = -1e300;
+  auto writeMapSnapshot = [&](double t) {
+    if (map_file == nullptr || t < next_map_snapshot) return;
+    next_map_snapshot = t + map_period;
+    const auto lms = eskf.landmarks();
+    std::fprintf(map_file, "%.9f %zu", t, lms.size());
+    for (const auto& l : lms) std::fprintf(map_file, " %.6f %.6f %.6f", l.position.x(), l.position.y(), l.position.z());
+    std::fprintf(map_file, "\n");
+  };
   auto writePose = [](std::FILE* f, double t, const PoseState& x) {
     std::fprintf(f, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", t, x.p.x(), x.p.y(), x.p.z(), x.q.x(), x.q.y(),
                  x.q.z(), x.q.w());
@@ -286,6 +309,7 @@ int main(int argc, char** argv) {
                    c.w.x(), c.w.y(), c.w.z());
     }
     relocalised += rep.relocalised;
+    if (st == Status::kOk) writeMapSnapshot(frames[fi].stamp);
     if (use_imu && st == Status::kOk) imu_rate.rebase(eskf, rep.scene_moving);
     errors += st != Status::kOk;
     vision_led += rep.vision_led;
@@ -331,6 +355,7 @@ int main(int argc, char** argv) {
   std::printf("events: %d relocalisations, %d frames vision-led (%d scene moving), %d frames rejected\n",
               relocalised, vision_led, scene_moving, errors);
   if (rate_file) std::fclose(rate_file);
+  if (map_file) std::fclose(map_file);
   if (use_imu)
     std::printf("motion model %s: %d frames waited for the gravity alignment, %d IMU samples rejected, "
                 "vision led in %d frames (scene moving in %d)\n",

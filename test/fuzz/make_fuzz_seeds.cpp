@@ -1,10 +1,11 @@
 // Writes the seed corpus of the fuzz targets: a few valid inputs per target
 // (and one near-miss each) in the record format of bounded_message.hpp.
-//   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed,image_flow}/seed_*
+//   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed,image_flow,surface_motion_flow}/seed_*
 // Deterministic (fixed seeds): rerunning it rewrites the same files.
 #include "bounded_message.hpp"
 #include "synthetic_frames.hpp"
 
+#include <hapi_msgs/ImageFlow.h>
 #include <hapi_msgs/StereoLandmarks.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
@@ -204,6 +205,40 @@ void imageFlow(const std::string& dir) {
   write(dir, "seed_restarts", restarts);
 }
 
+// Image flow of the imaging camera at 40 Hz on surface_motion_flow_fuzzer.cpp's
+// clock (odometry from 1000 s, 40 ms per record): the skin sliding right,
+// and a sequence with a first frame, an out-of-order flow, a NaN and a
+// too-few-features status.
+void surfaceMotionFlows(const std::string& dir) {
+  auto flow = [](double t_prev, double t, double du, std::uint8_t status) {
+    hapi_msgs::ImageFlow m;
+    m.header.stamp = ros::Time(t);
+    m.header.frame_id = "imaging_optical_frame";
+    m.previous_stamp = ros::Time(t_prev);
+    m.u = 319.5;
+    m.v = 239.5;
+    m.affine = {du, 0.0, 0.0, 0.0, 0.0, 0.0};
+    for (int i = 0; i < 6; ++i) m.affine_covariance[7 * i] = 4e-4;
+    m.inliers = m.tracked = 30;
+    m.status = status;
+    return m;
+  };
+  Bytes sliding, bad;
+  for (int i = 1; i <= 12; ++i) {
+    const double t = 1000.04 + 0.04 * i;
+    hapi_fuzz::appendRecord(flow(t - 0.025, t, 0.05, hapi_msgs::ImageFlow::STATUS_OK), &sliding);
+  }
+  write(dir, "seed_sliding", sliding);
+  hapi_fuzz::appendRecord(flow(0.0, 1000.05, 0.0, hapi_msgs::ImageFlow::STATUS_FIRST_FRAME), &bad);
+  hapi_fuzz::appendRecord(flow(1000.05, 1000.075, 0.1, hapi_msgs::ImageFlow::STATUS_OK), &bad);
+  hapi_fuzz::appendRecord(flow(1000.025, 1000.05, 0.1, hapi_msgs::ImageFlow::STATUS_OK), &bad);  // out of order
+  hapi_fuzz::appendRecord(flow(1000.075, 1000.1, std::numeric_limits<double>::quiet_NaN(),
+                               hapi_msgs::ImageFlow::STATUS_OK), &bad);
+  hapi_fuzz::appendRecord(flow(1000.1, 1000.125, 0.0, hapi_msgs::ImageFlow::STATUS_TOO_FEW_FEATURES), &bad);
+  hapi_fuzz::appendRecord(flow(1000.125, 1000.15, 40.0, hapi_msgs::ImageFlow::STATUS_OK), &bad);  // gated
+  write(dir, "seed_bad_then_jump", bad);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -218,5 +253,6 @@ int main(int argc, char** argv) {
   imagePairs(out + "/image_pair");
   compressed(out + "/compressed");
   imageFlow(out + "/image_flow");
+  surfaceMotionFlows(out + "/surface_motion_flow");
   return 0;
 }
