@@ -147,7 +147,7 @@ def load_rows(path):
     return accuracy.load_rows(path)
 
 
-def our_outputs(bag, stem, scene, data, out, log):
+def our_outputs(bag, stem, scene, info, data, out, log):
     """eskf_replay (inertial), imaging_flow_replay and surface_motion_replay on one bag:
     (causal, smoothed) rows of surface_motion_replay, on the camera clock."""
     txt = accuracy.landmark_stream(bag, stem, FRONTEND_ARGS.get(scene, []), data, log)
@@ -157,11 +157,15 @@ def our_outputs(bag, stem, scene, data, out, log):
     if st != 0:
         raise RuntimeError(f"eskf_replay failed for {stem} (see {log})")
     flow = prefix + "_flow.txt"
-    st, _ = run(["rosrun", "hapi_frontend", "imaging_flow_replay", bag, flow], log)
+    st, _ = run(["rosrun", "hapi_frontend", "imaging_flow_replay", bag, flow, "--topic", IMAGING_TOPIC], log)
     if st != 0:
         raise RuntimeError(f"imaging_flow_replay failed for {stem} (see {log})")
-    st, _ = run(["rosrun", "hapi_eskf", "surface_motion_replay", "--imu-rate", prefix + "_imu_rate.txt",
-                 "--map", prefix + "_map.txt", "--flow", flow, "--bag-camera", bag, "--out", prefix + "_motion"], log)
+    K = info["K"]
+    intrinsics = "%r %r %r %r %d %d %r" % (K[0, 0], K[1, 1], K[0, 2], K[1, 2], info["width"], info["height"],
+                                          IMAGING_RATE)
+    st, _ = run(["rosrun", "hapi_eskf", "surface_motion_replay", "--odom", prefix + "_imu_rate.txt",
+                 "--map", prefix + "_map.txt", "--flow", flow, "--intrinsics", intrinsics,
+                 "--out", prefix + "_motion.txt", "--smoothed", prefix + "_motion_smoothed.txt"], log)
     if st != 0:
         raise RuntimeError(f"surface_motion_replay failed for {stem} (see {log})")
     return load_rows(prefix + "_motion.txt"), load_rows(prefix + "_motion_smoothed.txt")
@@ -313,7 +317,7 @@ def study(name, seeds, duration, data, out, log, plots_dir):
         stem, bag, scene = scenario_bag(name, seed, duration, data, log)
         frames, info, truth = read_imaging(bag)
         offset = accuracy.time_offset(bag)
-        ours, smoothed = our_outputs(bag, stem, scene, data, out, log)
+        ours, smoothed = our_outputs(bag, stem, scene, info, data, out, log)
         rows = score_run(frames, info, truth, offset, ours, smoothed)
         for m in METHODS:
             pooled[m] += rows[m]
