@@ -7,6 +7,7 @@
 
 #include "hapi_eskf/surface_motion/surface_motion_estimator.hpp"
 
+#include <cmath>
 #include <functional>
 #include <random>
 #include <vector>
@@ -42,6 +43,10 @@ struct ScanConfig {
   double flow_sigma = 0.02;     // [px] per axis
   double flow_latency = 0.012;  // [s] after the frame's stamp
   Vec3 odom_velocity_bias = Vec3::Zero();  // [m/s] the odometry's error
+  // The odometry's position jumps by this every jump_period s (a filter's
+  // correction at each stereo frame); its twist does not show them.
+  Vec3 pose_jump = Vec3::Zero();  // [m]
+  double jump_period = 0.1;       // [s]
   std::function<Vec3(double)> device_velocity = [](double) { return Vec3::Zero(); };   // world [m/s]
   std::function<Vec3(double)> subject_velocity = [](double) { return Vec3::Zero(); };  // world, in the plane [m/s]
   unsigned seed = 1;
@@ -101,7 +106,7 @@ inline std::vector<ScanSample> runScan(const ScanConfig& c, SurfaceMotionEstimat
     while (c.fuse_flow && next_flow < flows.size() && flows[next_flow].arrival <= t) est->addFlow(flows[next_flow++].f);
     CameraOdometry o;
     o.t = t;
-    o.T_world_cam.translation() = p_odom[k];
+    o.T_world_cam.translation() = p_odom[k] + std::floor(t / c.jump_period) * c.pose_jump;
     o.v = c.device_velocity(t) + c.odom_velocity_bias;
     o.twist_covariance = 1e-6 * Mat6::Identity();
     const auto r = est->addOdometry(o);

@@ -17,7 +17,8 @@ scores every method in the form of the thesis's appendix A tables.
 Per method and scenario (seeds pooled): the image velocity's MAE and SD in
 px/frame and in % of the mean true image speed, the median per-frame
 relative error over frames faster than 5 mm/s, and the on-surface velocity
-error's RMS and 95th percentile in mm/s. Every method is scored per frame
+error's RMS and 95th percentile in mm/s, all from 1 s after our first
+output with status OK (the first landmarks near the ray). Every method is scored per frame
 pair against the truth's mean over that interval; ours is also scored at
 every output instant (IMU rate), and the smoothed output likewise. A
 baseline's px/frame become mm/s through the true skin point and normal (its
@@ -64,6 +65,10 @@ METHODS = ("farneback", "dis", "lk", "ours", "ours_smoothed")
 # size); LK's features come from within BASELINE_LK_RADIUS of the pixel.
 BASELINE_WINDOW = 15
 BASELINE_LK_RADIUS = 60
+# Every method is scored from this long after our first output with status
+# OK: the first second has no map near the ray yet (no depth) or a depth
+# from a handful of landmarks.
+SETTLE_S = 1.0
 
 
 def run(cmd, log):
@@ -96,8 +101,9 @@ def read_imaging(bag):
             if topic == IMAGING_TOPIC:
                 img = np.frombuffer(m.data, dtype=np.uint8).reshape(m.height, m.step)[:, :m.width]
                 frames.append((m.header.stamp.to_sec(), img.copy()))
-            elif topic == "/imaging/camera_info" and info is None:
-                info = {"K": np.array(m.K).reshape(3, 3), "width": m.width, "height": m.height}
+            elif topic == "/imaging/camera_info":
+                if info is None:
+                    info = {"K": np.array(m.K).reshape(3, 3), "width": m.width, "height": m.height}
             elif m.status == 0:
                 truth.append([m.header.stamp.to_sec(), m.point.x, m.point.y, m.point.z, m.normal.x, m.normal.y,
                               m.normal.z, m.surface_velocity.x, m.surface_velocity.y, m.surface_velocity.z,
@@ -190,13 +196,22 @@ def per_frame_truth(truth, t0, t1):
     return iv, s, X, n / np.linalg.norm(n)
 
 
+def scored_from(ours, offset):
+    """The first instant scored (every method alike): SETTLE_S after our first output with status OK."""
+    ok = ours[:, COL_STATUS] == 0 if len(ours) else np.zeros(0, bool)
+    return ours[ok, COL_T][0] + offset + SETTLE_S if np.any(ok) else float("inf")
+
+
 def score_run(frames, info, truth, offset, ours, smoothed):
     """Per method: lists of (est px, true px, est mm/s, true mm/s) per frame pair; plus ours at IMU rate."""
     fx, fy = info["K"][0, 0], info["K"][1, 1]
     stamps = np.array([f[0] for f in frames]) + offset
     rows = {m: [] for m in METHODS}
     flows = {m: baseline_flows(frames, truth["pixel"], m) for m in ("farneback", "dis", "lk")}
+    start = scored_from(ours, offset)
     for k in range(1, len(frames)):
+        if stamps[k - 1] < start:
+            continue
         ref = per_frame_truth(truth, stamps[k - 1], stamps[k])
         if ref is None:
             continue
@@ -220,11 +235,11 @@ def score_run(frames, info, truth, offset, ours, smoothed):
     return rows
 
 
-def instant_errors(r, truth, offset):
-    """Ours at every output instant with status OK: (estimate, truth, covariance, normal) in mm/s."""
+def instant_errors(r, truth, offset, start):
+    """Ours at every output instant with status OK from `start` on: (estimate, truth, covariance, normal) in mm/s."""
     ok = r[:, COL_STATUS] == 0 if len(r) else np.zeros(0, bool)
     t = r[ok, COL_T] + offset
-    inside = (t >= truth["t"][0]) & (t <= truth["t"][-1])
+    inside = (t >= max(truth["t"][0], start)) & (t <= truth["t"][-1])
     t = t[inside]
     est, cov = r[ok][inside][:, COL_S], r[ok][inside][:, COL_CS].reshape(-1, 3, 3)
     true = np.column_stack([np.interp(t, truth["t"], truth["s"][:, j]) for j in range(3)])
@@ -323,7 +338,7 @@ def study(name, seeds, duration, data, out, log, plots_dir):
             pooled[m] += rows[m]
         for key, r in (("ours_200hz", ours), ("ours_smoothed_200hz", smoothed)):
             if len(r):
-                _, est, true, cov, n = instant_errors(r, truth, offset)
+                _, est, true, cov, n = instant_errors(r, truth, offset, scored_from(ours, offset))
                 instants[key].append((est, true))
                 if key == "ours_200hz" and len(est):
                     nees_runs.append(smm.velocity_nees(est, true, cov, n))

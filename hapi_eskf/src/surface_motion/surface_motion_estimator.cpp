@@ -43,6 +43,7 @@ void SurfaceMotionEstimator::setMap(std::vector<Vec3> landmarks_world) { map_ = 
 
 void SurfaceMotionEstimator::reset() {
   odom_.clear();
+  chain_.clear();
   filter_ = RelativeVelocityFilter(s_);
   contexts_.clear();
   pending_.clear();
@@ -76,17 +77,30 @@ Eigen::Isometry3d SurfaceMotionEstimator::poseAt(double t) const {
   return interpolatePose(*(it - 1), *it, t);
 }
 
+Eigen::Isometry3d SurfaceMotionEstimator::chainAt(double t) const {
+  auto it = std::lower_bound(odom_.begin(), odom_.end(), t,
+                             [](const CameraOdometry& o, double x) { return o.t < x; });
+  const std::size_t i = static_cast<std::size_t>(it - odom_.begin());
+  if (i == 0) return chain_.front();
+  return interpolatePose(chain_[i - 1], odom_[i - 1].t, chain_[i], odom_[i].t, t);
+}
+
 std::optional<SurfaceMotionOutput> SurfaceMotionEstimator::addOdometry(const CameraOdometry& odom) {
   pending_outcomes_.clear();
   if (!odom.finite() || (!odom_.empty() && odom.t <= odom_.back().t)) return std::nullopt;
   if (!filter_.started()) {
     filter_.start(odom.t);
+    chain_.push_back(odom.T_world_cam);
   } else {
-    const Mat3 R_new_old = odom.T_world_cam.linear().transpose() * odom_.back().T_world_cam.linear();
-    filter_.predict(odom.t, R_new_old);
+    const Eigen::Isometry3d step = twistStep(odom_.back(), odom);
+    filter_.predict(odom.t, step.linear().transpose());
+    chain_.push_back(chain_.back() * step);
   }
   odom_.push_back(odom);
-  while (odom_.size() > 2 && odom_.back().t - odom_.front().t > s_.history_length) odom_.pop_front();
+  while (odom_.size() > 2 && odom_.back().t - odom_.front().t > s_.history_length) {
+    odom_.pop_front();
+    chain_.pop_front();
+  }
 
   // Held flows whose interval the odometry now covers, oldest first.
   while (!pending_.empty() && pending_.front().t <= odom.t) {
@@ -155,9 +169,12 @@ FlowOutcome SurfaceMotionEstimator::fuse(const FlowMeasurement& f, std::string* 
   };
   if (!has_camera_) return fail(FlowOutcome::kNoCamera, "no camera model of the imaging camera yet");
   if (f.t_prev < odom_.front().t) return fail(FlowOutcome::kTooOld, "its interval starts before the odometry kept");
-  const Eigen::Isometry3d T0 = poseAt(f.t_prev), T1 = poseAt(f.t);
+  // The map is looked up at the odometry's pose; the camera's motion over
+  // the interval comes from the twist-integrated chain (twistStep: the
+  // poses jump at the filter's corrections).
+  const Eigen::Isometry3d T0 = chainAt(f.t_prev), T1 = chainAt(f.t);
   const Vec3 ray = cam_.ray(Vec2(f.u, f.v));
-  const RaySurface rs = surfaceAtRay(map_, T0, cam_, ray, s_);
+  const RaySurface rs = surfaceAtRay(map_, poseAt(f.t_prev), cam_, ray, s_);
   if (rs.status != MotionStatus::kOk) return fail(FlowOutcome::kNoGeometry, rs.message);
   // The flow measures the mean of e over [t_prev, t] (times dt). It updates
   // the stored step nearest its middle (the filter predicts the later steps
@@ -167,7 +184,7 @@ FlowOutcome SurfaceMotionEstimator::fuse(const FlowMeasurement& f, std::string* 
   const double dt = f.t - f.t_prev;
   const std::size_t k = filter_.stepFor(0.5 * (f.t_prev + f.t));
   const FilterStep& st = filter_.steps()[k];
-  const Mat3 R_c1_ck = T1.linear().transpose() * poseAt(st.t).linear();
+  const Mat3 R_c1_ck = T1.linear().transpose() * chainAt(st.t).linear();
   const FlowPrediction p = predictFlow(rs.geometry, T1.inverse() * T0, R_c1_ck * st.e, dt, cam_);
   const Mat23 H = p.H * R_c1_ck;
   const Mat3 lag = filter_.processNoise(dt / 12 + std::abs(0.5 * (f.t_prev + f.t) - st.t));

@@ -89,7 +89,8 @@ class SurfaceMotionEstimator {
     bool flow_fused;
   };
   FlowOutcome fuse(const FlowMeasurement& f, std::string* why);
-  Eigen::Isometry3d poseAt(double t) const;
+  Eigen::Isometry3d poseAt(double t) const;   // the odometry's pose (world)
+  Eigen::Isometry3d chainAt(double t) const;  // the twist-integrated pose (relative motion only)
   SurfaceMotionOutput makeOutput(const Context& c, const Vec3& e, const Mat3& P) const;
 
   SurfaceMotionSettings s_;
@@ -97,6 +98,7 @@ class SurfaceMotionEstimator {
   bool has_camera_ = false;
   std::vector<Vec3> map_;
   std::deque<CameraOdometry> odom_;
+  std::deque<Eigen::Isometry3d> chain_;  // per odom_ sample: the twist-integrated pose (twistStep)
   RelativeVelocityFilter filter_;
   std::deque<Context> contexts_;
   std::deque<FlowMeasurement> pending_;
