@@ -73,8 +73,9 @@ TEST(SurfaceMotionFilter, CorrectsTheOdometrysVelocityError) {
 }
 
 TEST(SurfaceMotionFilter, ThePosesCorrectionJumpsAreNotTakenForMotion) {
-  // A 1 mm jump inside a 25 ms flow interval would read as 40 mm/s: the
-  // camera's motion over an interval comes from the twist (twistStep).
+  // A correction jump inside a flow interval reads as motion: 1 mm in 25 ms
+  // is 40 mm/s (gated), 0.07 mm passes the gate and biases e. The camera's
+  // motion over an interval comes from the twist (twistStep).
   SurfaceMotionEstimator est = makeEstimator();
   ScanConfig c;
   c.device_velocity = [](double t) { return Vec3(0.010 * std::sin(2 * M_PI * 0.5 * t), 0.004, 0); };
