@@ -7,9 +7,11 @@
 namespace hapi_eskf {
 namespace surface_motion {
 
-bool CameraOdometry::finite() const {
+bool CameraOdometry::valid() const {
+  constexpr double kMaxPosition = 1e6, kMaxSpeed = 1e3, kMaxRate = 1e3;
   return std::isfinite(t) && T_world_cam.matrix().allFinite() && v.allFinite() && w.allFinite() &&
-         twist_covariance.allFinite();
+         twist_covariance.allFinite() && T_world_cam.translation().norm() < kMaxPosition && v.norm() < kMaxSpeed &&
+         w.norm() < kMaxRate;
 }
 
 CameraOdometry toRigidlyAttached(const CameraOdometry& odom, const Eigen::Isometry3d& T_cam_other) {

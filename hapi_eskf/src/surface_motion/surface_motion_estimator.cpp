@@ -78,7 +78,7 @@ Eigen::Isometry3d SurfaceMotionEstimator::poseAt(double t) const {
 
 std::optional<SurfaceMotionOutput> SurfaceMotionEstimator::addOdometry(const CameraOdometry& odom) {
   pending_outcomes_.clear();
-  if (!odom.finite() || (!odom_.empty() && odom.t <= odom_.back().t)) return std::nullopt;
+  if (!odom.valid() || (!odom_.empty() && odom.t <= odom_.back().t)) return std::nullopt;
   if (!filter_.started()) {
     filter_.start(odom.t);
   } else {

@@ -13,7 +13,9 @@ struct CameraOdometry {
   Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
   Vec3 v = Vec3::Zero(), w = Vec3::Zero();             // camera frame [m/s, rad/s]
   Mat6 twist_covariance = Mat6::Zero();                // of (v, w)
-  bool finite() const;
+  // Finite and physically possible (|p| < 1e6 m, |v| < 1e3 m/s, |w| < 1e3
+  // rad/s, a finite covariance): what the estimator accepts.
+  bool valid() const;
 };
 
 // The same rigid motion seen by another camera fixed to the first:

@@ -30,7 +30,9 @@ struct FlowMeasurement {
 
 // "" when the measurement may be fused, else why not: a status not OK, a
 // non-finite number, an interval out of [min_interval, max_interval], a
-// covariance of the displacement that is not positive definite.
+// displacement beyond 1e4 px or a gradient beyond 1e3 per frame, a
+// covariance of the displacement that is not positive definite or beyond
+// (1e4 px)^2.
 std::string checkFlow(const FlowMeasurement& f, double min_interval, double max_interval);
 
 // The predicted displacement and its linearisation in e.

@@ -61,7 +61,7 @@ class SurfaceMotionEstimator {
   std::size_t mapSize() const { return map_.size(); }
 
   // The imaging camera's odometry (extrinsic applied: toRigidlyAttached).
-  // Empty when its stamp is not after the previous one or it is not finite.
+  // Empty when its stamp is not after the previous one or it is not valid().
   std::optional<SurfaceMotionOutput> addOdometry(const CameraOdometry& odom);
   // A flow; flows held for the odometry are fused by a later addOdometry
   // (pendingOutcomes() reports them). *why: the reason when not fused.
