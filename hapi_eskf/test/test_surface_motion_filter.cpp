@@ -115,8 +115,11 @@ TEST(SurfaceMotionFilter, OutputNeesInsideTheBand) {
     const Vec2 err = (last.out.velocity.surface_velocity - last.truth_s).head<2>();
     nees += err.dot(last.out.velocity.surface_velocity_covariance.topLeftCorner<2, 2>().inverse() * err);
   }
+  // Measured 1.51 (commit of this test): slightly conservative, so the
+  // lower bound is widened by 20 %; a covariance twice too large (0.75) or
+  // half too small (3.0) fails.
   EXPECT_GT(nees / runs, 1.53 * 0.8);
-  EXPECT_LT(nees / runs, 2.53 * 1.2);
+  EXPECT_LT(nees / runs, 2.53);
 }
 
 TEST(SurfaceMotionFilter, BadFlowsAreRejectedAndChangeNothing) {
