@@ -1,5 +1,6 @@
 #include "hapi_eskf/surface_motion/surface_motion_estimator.hpp"
 
+#include "hapi_eskf/so3.hpp"
 #include "hapi_eskf/surface_motion/rts_smoother.hpp"
 
 #include <algorithm>
@@ -74,6 +75,24 @@ Eigen::Isometry3d SurfaceMotionEstimator::poseAt(double t) const {
                              [](const CameraOdometry& o, double x) { return o.t < x; });
   if (it == odom_.begin()) return it->T_world_cam;
   return interpolatePose(*(it - 1), *it, t);
+}
+
+Eigen::Isometry3d SurfaceMotionEstimator::motionBetween(double t0, double t1) const {
+  // Each odometry interval [t_k-1, t_k] moves the camera by the mean of its
+  // two twists; the part of it inside [t0, t1] is taken. The poses
+  // themselves jump where the filter corrects them (each frame), the twist
+  // only by the velocity's correction.
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (std::size_t k = 1; k < odom_.size(); ++k) {
+    const double a = std::max(odom_[k - 1].t, t0), b = std::min(odom_[k].t, t1);
+    if (b <= a) continue;
+    const Vec3 v = 0.5 * (odom_[k - 1].v + odom_[k].v), w = 0.5 * (odom_[k - 1].w + odom_[k].w);
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    step.linear() = expSO3(w * (b - a));
+    step.translation() = v * (b - a);
+    T = T * step;
+  }
+  return T;
 }
 
 std::optional<SurfaceMotionOutput> SurfaceMotionEstimator::addOdometry(const CameraOdometry& odom) {
@@ -168,7 +187,7 @@ FlowOutcome SurfaceMotionEstimator::fuse(const FlowMeasurement& f, std::string* 
   const std::size_t k = filter_.stepFor(0.5 * (f.t_prev + f.t));
   const FilterStep& st = filter_.steps()[k];
   const Mat3 R_c1_ck = T1.linear().transpose() * poseAt(st.t).linear();
-  const FlowPrediction p = predictFlow(rs.geometry, T1.inverse() * T0, R_c1_ck * st.e, dt, cam_);
+  const FlowPrediction p = predictFlow(rs.geometry, motionBetween(f.t_prev, f.t).inverse(), R_c1_ck * st.e, dt, cam_);
   const Mat23 H = p.H * R_c1_ck;
   const Mat3 lag = filter_.processNoise(dt / 12 + std::abs(0.5 * (f.t_prev + f.t) - st.t));
   const Mat2 R = f.displacementCovariance() + p.R_geometry + H * lag * H.transpose();

@@ -44,7 +44,7 @@ struct FlowPrediction {
 
 // X0 = geometry0.point() is the skin point on the flow pixel's ray at t_prev
 // (camera frame at t_prev); T_c1_c0 the camera's motion over the interval
-// (the odometry's poses); e the extra skin velocity (camera frame at t):
+// (the odometry's twist integrated); e the extra skin velocity (camera frame at t):
 //   X1 = T_c1_c0 X0 + e (t - t_prev),  displacement = pi(X1) - pi(X0)
 // with pi the raw-pixel projection (the flow is measured on raw images).
 FlowPrediction predictFlow(const RayGeometry& geometry0, const Eigen::Isometry3d& T_c1_c0, const Vec3& e, double dt,

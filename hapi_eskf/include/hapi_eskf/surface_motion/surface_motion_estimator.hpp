@@ -90,6 +90,9 @@ class SurfaceMotionEstimator {
   };
   FlowOutcome fuse(const FlowMeasurement& f, std::string* why);
   Eigen::Isometry3d poseAt(double t) const;
+  // The camera's motion over [t0, t1] (T_c0_c1) from the odometry's twist,
+  // integrated (docs/DESIGN.md "Surface motion", fusion).
+  Eigen::Isometry3d motionBetween(double t0, double t1) const;
   SurfaceMotionOutput makeOutput(const Context& c, const Vec3& e, const Mat3& P) const;
 
   SurfaceMotionSettings s_;
