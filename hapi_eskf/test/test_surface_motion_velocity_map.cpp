@@ -5,6 +5,7 @@
 #include "hapi_eskf/surface_motion/velocity_map.hpp"
 
 #include "hapi_eskf/so3.hpp"
+#include "surface_motion_scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,15 +15,13 @@ namespace hapi_eskf {
 namespace surface_motion {
 namespace {
 
+// The tests' camera made asymmetric (fx != fy, off-centre principal point).
 ImagingCamera camera() {
-  ImagingCamera c;
+  ImagingCamera c = test::testCamera();
   c.fx = 480;
   c.fy = 470;
   c.cx = 322;
   c.cy = 241;
-  c.width = 640;
-  c.height = 480;
-  c.frame_rate = 40;
   return c;
 }
 
