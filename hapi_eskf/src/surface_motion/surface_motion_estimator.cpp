@@ -83,7 +83,10 @@ Eigen::Isometry3d SurfaceMotionEstimator::motionBetween(double t0, double t1) co
   // themselves jump where the filter corrects them (each frame), the twist
   // only by the velocity's correction.
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  for (std::size_t k = 1; k < odom_.size(); ++k) {
+  auto first = std::lower_bound(odom_.begin(), odom_.end(), t0,
+                                [](const CameraOdometry& o, double x) { return o.t < x; });
+  const std::size_t k0 = std::max<std::size_t>(1, static_cast<std::size_t>(first - odom_.begin()));
+  for (std::size_t k = k0; k < odom_.size() && odom_[k - 1].t < t1; ++k) {
     const double a = std::max(odom_[k - 1].t, t0), b = std::min(odom_[k].t, t1);
     if (b <= a) continue;
     const Vec3 v = 0.5 * (odom_[k - 1].v + odom_[k].v), w = 0.5 * (odom_[k - 1].w + odom_[k].w);
