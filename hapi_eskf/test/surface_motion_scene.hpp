@@ -7,7 +7,6 @@
 
 #include "hapi_eskf/surface_motion/surface_motion_estimator.hpp"
 
-#include <cmath>
 #include <functional>
 #include <random>
 #include <vector>
@@ -43,10 +42,9 @@ struct ScanConfig {
   double flow_sigma = 0.02;     // [px] per axis
   double flow_latency = 0.012;  // [s] after the frame's stamp
   Vec3 odom_velocity_bias = Vec3::Zero();  // [m/s] the odometry's error
-  // The odometry's position jumps by this every jump_period s (a filter's
-  // correction at each stereo frame); its twist does not show them.
-  Vec3 pose_jump = Vec3::Zero();  // [m]
-  double jump_period = 0.1;       // [s]
+  // [m] per axis: the odometry's position jumps by this much (Gaussian) at
+  // every 10 Hz frame, as the filter's corrections do.
+  double odom_position_jump = 0;
   std::function<Vec3(double)> device_velocity = [](double) { return Vec3::Zero(); };   // world [m/s]
   std::function<Vec3(double)> subject_velocity = [](double) { return Vec3::Zero(); };  // world, in the plane [m/s]
   unsigned seed = 1;
@@ -71,10 +69,13 @@ inline std::vector<ScanSample> runScan(const ScanConfig& c, SurfaceMotionEstimat
   const int steps = static_cast<int>(c.duration * c.odom_rate);
   // True camera positions and the skin's displacement, by midpoint sums.
   std::vector<Vec3> p(steps + 1, Vec3::Zero()), p_odom(steps + 1, Vec3::Zero()), slide(steps + 1, Vec3::Zero());
+  std::normal_distribution<double> jump(0, 1);
+  const int per_correction = static_cast<int>(std::lround(c.odom_rate / 10));
   for (int k = 0; k < steps; ++k) {
     const double tm = (k + 0.5) * h;
     p[k + 1] = p[k] + h * c.device_velocity(tm);
     p_odom[k + 1] = p_odom[k] + h * (c.device_velocity(tm) + c.odom_velocity_bias);
+    if ((k + 1) % per_correction == 0) p_odom[k + 1] += c.odom_position_jump * Vec3(jump(rng), jump(rng), jump(rng));
     slide[k + 1] = slide[k] + h * c.subject_velocity(tm);
   }
   struct Flow {
@@ -106,7 +107,7 @@ inline std::vector<ScanSample> runScan(const ScanConfig& c, SurfaceMotionEstimat
     while (c.fuse_flow && next_flow < flows.size() && flows[next_flow].arrival <= t) est->addFlow(flows[next_flow++].f);
     CameraOdometry o;
     o.t = t;
-    o.T_world_cam.translation() = p_odom[k] + std::floor(t / c.jump_period) * c.pose_jump;
+    o.T_world_cam.translation() = p_odom[k];
     o.v = c.device_velocity(t) + c.odom_velocity_bias;
     o.twist_covariance = 1e-6 * Mat6::Identity();
     const auto r = est->addOdometry(o);

@@ -1,9 +1,11 @@
 // The velocity map (docs/DESIGN.md "Surface motion"): its Jacobian against
 // central differences, and its quantities against finite differences of a
 // simulated skin (a plane and a cylinder) moved by a known twist.
+#include "hapi_eskf/surface_motion/camera_odometry.hpp"
 #include "hapi_eskf/surface_motion/velocity_map.hpp"
 
 #include "hapi_eskf/so3.hpp"
+#include "surface_motion_scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,15 +15,13 @@ namespace hapi_eskf {
 namespace surface_motion {
 namespace {
 
+// The tests' camera made asymmetric (fx != fy, off-centre principal point).
 ImagingCamera camera() {
-  ImagingCamera c;
+  ImagingCamera c = test::testCamera();
   c.fx = 480;
   c.fy = 470;
   c.cx = 322;
   c.cy = 241;
-  c.width = 640;
-  c.height = 480;
-  c.frame_rate = 40;
   return c;
 }
 
@@ -161,6 +161,41 @@ TEST(SurfaceMotionImagingCamera, UndistortInvertsPlumbBob) {
     const Vec2 fd = (cam.project(X + d) - cam.project(X - d)) / 2e-7;
     EXPECT_LT((J.col(i) - fd).norm(), 1e-4 * (1 + fd.norm()));
   }
+}
+
+// The twist of a camera fixed to the odometry's camera: against finite
+// differences of the two poses under a known motion (camera-frame twist).
+TEST(SurfaceMotionCameraOdometry, RigidlyAttachedTwistMatchesFiniteDifferences) {
+  CameraOdometry odom;
+  odom.T_world_cam.linear() = expSO3(Vec3(0.2, -0.1, 0.3));
+  odom.T_world_cam.translation() = Vec3(0.1, 0.2, -0.05);
+  odom.v = Vec3(0.02, -0.01, 0.005);
+  odom.w = Vec3(0.3, -0.2, 0.5);
+  odom.twist_covariance = 1e-4 * Mat6::Identity();
+  Eigen::Isometry3d T_cam_other = Eigen::Isometry3d::Identity();
+  T_cam_other.linear() = expSO3(Vec3(0.0, 0.4, -0.2));
+  T_cam_other.translation() = Vec3(0.05, -0.02, 0.01);
+  auto poseAt = [&](double h) {  // the camera moved by its twist over h, then the other camera
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    step.linear() = expSO3(odom.w * h);
+    step.translation() = odom.v * h;
+    return odom.T_world_cam * step * T_cam_other;
+  };
+  const CameraOdometry other = toRigidlyAttached(odom, T_cam_other);
+  const double h = 1e-6;
+  const Eigen::Isometry3d Tp = poseAt(h), Tm = poseAt(-h), T0 = poseAt(0);
+  EXPECT_LT((other.T_world_cam.matrix() - T0.matrix()).norm(), 1e-12);
+  const Vec3 v_fd = T0.linear().transpose() * (Tp.translation() - Tm.translation()) / (2 * h);
+  const Mat3 dR = Tm.linear().transpose() * Tp.linear();  // Exp(2 h w_other)
+  const Eigen::AngleAxisd aa(dR);
+  const Vec3 w_fd = aa.angle() * aa.axis() / (2 * h);
+  EXPECT_LT((other.v - v_fd).norm(), 1e-7);
+  EXPECT_LT((other.w - w_fd).norm(), 1e-6);
+  // The covariance keeps its trace under a pure rotation of the twist's
+  // angular part and grows by the lever arm for the linear part.
+  const Mat3 Cv = other.twist_covariance.topLeftCorner<3, 3>(), Cw = other.twist_covariance.bottomRightCorner<3, 3>();
+  EXPECT_GT(Cv.trace(), 3e-4);
+  EXPECT_NEAR(Cw.trace(), 3e-4, 1e-15);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "filter_harness.hpp"
 
 #include "surface_motion_conversions.hpp"
+#include "surface_motion_scene.hpp"
 
 #include <hapi_msgs/ImageFlow.h>
 
@@ -28,19 +29,14 @@ bool finiteOutput(const SurfaceMotionOutput& o) {
          v.image_velocity_covariance.allFinite();
 }
 
+// A still camera over a plane 0.3 m away: 5 x 5 landmarks 1 cm apart, all
+// within the first search radius (few points keep the fuzzer fast).
 SurfaceMotionEstimator makeEstimator() {
   SurfaceMotionEstimator est{SurfaceMotionSettings()};
-  ImagingCamera cam;
-  cam.fx = cam.fy = 500;
-  cam.cx = 319.5;
-  cam.cy = 239.5;
-  cam.width = 640;
-  cam.height = 480;
-  cam.frame_rate = 40;
-  est.setCamera(cam);
+  est.setCamera(test::testCamera());
   std::vector<hapi_eskf::Vec3> map;
-  for (int i = -8; i <= 8; ++i)
-    for (int j = -6; j <= 6; ++j) map.emplace_back(0.01 * i, 0.01 * j, 0.3);
+  for (int i = -2; i <= 2; ++i)
+    for (int j = -2; j <= 2; ++j) map.emplace_back(0.01 * i, 0.01 * j, 0.3);
   est.setMap(std::move(map));
   return est;
 }

@@ -28,7 +28,7 @@ surface_motion::CameraOdometry toCameraOdometry(const nav_msgs::Odometry& msg) {
   o.t = msg.header.stamp.toSec();
   const auto& p = msg.pose.pose;
   Eigen::Quaterniond q(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-  // A quaternion far from unit length is not a rotation: NaN makes finite() fail.
+  // A quaternion far from unit length is not a rotation: NaN makes valid() fail.
   if (!(std::abs(q.norm() - 1.0) < 1e-3)) q.coeffs().setConstant(std::nan(""));
   o.T_world_cam.linear() = q.normalized().toRotationMatrix();
   o.T_world_cam.translation() = Vec3(p.position.x, p.position.y, p.position.z);
@@ -72,10 +72,11 @@ std::string toPoints(const sensor_msgs::PointCloud2& msg, std::vector<Vec3>* out
   if (xyz != 3) return "no x, y, z fields";
   if (type != sensor_msgs::PointField::FLOAT32 && type != sensor_msgs::PointField::FLOAT64)
     return "x, y, z must be FLOAT32 or FLOAT64";
+  // The iterators walk the data by point_step to its end: dense rows only.
   const std::size_t n = static_cast<std::size_t>(msg.width) * msg.height;
-  if (msg.point_step == 0 || msg.row_step < static_cast<std::size_t>(msg.width) * msg.point_step ||
-      msg.data.size() < static_cast<std::size_t>(msg.height) * msg.row_step)
-    return "data size does not match width, height, point_step and row_step";
+  if (msg.point_step == 0 || msg.row_step != static_cast<std::size_t>(msg.width) * msg.point_step ||
+      msg.data.size() != n * msg.point_step)
+    return "data size is not width * height * point_step (row_step = width * point_step)";
   for (const auto& f : msg.fields)
     if ((f.name == "x" || f.name == "y" || f.name == "z") &&
         f.offset + (type == sensor_msgs::PointField::FLOAT32 ? 4u : 8u) > msg.point_step)

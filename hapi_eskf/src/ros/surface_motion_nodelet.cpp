@@ -162,7 +162,7 @@ void SurfaceMotionNodelet::odomCallback(const nav_msgs::OdometryConstPtr& msg) {
   for (surface_motion::FlowOutcome o : estimator_->pendingOutcomes()) stats_.countFlow(o);
   if (!out) {
     ++stats_.odom_rejected;
-    NODELET_ERROR_THROTTLE(2.0, "odometry dropped: not finite (or a quaternion not of unit length)");
+    NODELET_ERROR_THROTTLE(2.0, "odometry dropped: not finite, beyond physical bounds or a quaternion not of unit length");
     return;
   }
   publish(*out, msg->header.stamp);

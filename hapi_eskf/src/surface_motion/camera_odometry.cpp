@@ -7,9 +7,11 @@
 namespace hapi_eskf {
 namespace surface_motion {
 
-bool CameraOdometry::finite() const {
+bool CameraOdometry::valid() const {
+  constexpr double kMaxPosition = 1e6, kMaxSpeed = 1e3, kMaxRate = 1e3;
   return std::isfinite(t) && T_world_cam.matrix().allFinite() && v.allFinite() && w.allFinite() &&
-         twist_covariance.allFinite();
+         twist_covariance.allFinite() && T_world_cam.translation().norm() < kMaxPosition && v.norm() < kMaxSpeed &&
+         w.norm() < kMaxRate;
 }
 
 CameraOdometry toRigidlyAttached(const CameraOdometry& odom, const Eigen::Isometry3d& T_cam_other) {
@@ -27,29 +29,13 @@ CameraOdometry toRigidlyAttached(const CameraOdometry& odom, const Eigen::Isomet
   return out;
 }
 
-Eigen::Isometry3d interpolatePose(const Eigen::Isometry3d& a, double ta, const Eigen::Isometry3d& b, double tb,
-                                  double t) {
-  const double span = tb - ta;
-  const double f = span > 0 ? (t - ta) / span : 0.0;
-  const Eigen::Quaterniond qa(a.linear()), qb(b.linear());
+Eigen::Isometry3d interpolatePose(const CameraOdometry& a, const CameraOdometry& b, double t) {
+  const double span = b.t - a.t;
+  const double f = span > 0 ? (t - a.t) / span : 0.0;
+  const Eigen::Quaterniond qa(a.T_world_cam.linear()), qb(b.T_world_cam.linear());
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = qa.slerp(f, qb).toRotationMatrix();
-  T.translation() = (1 - f) * a.translation() + f * b.translation();
-  return T;
-}
-
-Eigen::Isometry3d interpolatePose(const CameraOdometry& a, const CameraOdometry& b, double t) {
-  return interpolatePose(a.T_world_cam, a.t, b.T_world_cam, b.t, t);
-}
-
-Eigen::Isometry3d twistStep(const CameraOdometry& a, const CameraOdometry& b) {
-  // The mean of the two samples' twists, each in its own camera frame: the
-  // frames differ by a rotation of w dt, a second-order effect over an
-  // odometry interval.
-  const double dt = b.t - a.t;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = expSO3(0.5 * (a.w + b.w) * dt);
-  T.translation() = 0.5 * (a.v + b.v) * dt;
+  T.translation() = (1 - f) * a.T_world_cam.translation() + f * b.T_world_cam.translation();
   return T;
 }
 

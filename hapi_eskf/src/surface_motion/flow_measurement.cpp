@@ -25,10 +25,16 @@ std::string checkFlow(const FlowMeasurement& f, double min_interval, double max_
   if (!(dt >= min_interval && dt <= max_interval))
     return "interval " + std::to_string(dt) + " s outside [" + std::to_string(min_interval) + ", " +
            std::to_string(max_interval) + "] s";
+  // No camera has 1e4 px; beyond, the numbers are garbage, not motion.
+  constexpr double kMaxDisplacement = 1e4, kMaxGradient = 1e3;
+  if (std::abs(f.affine[0]) > kMaxDisplacement || std::abs(f.affine[1]) > kMaxDisplacement)
+    return "displacement beyond 1e4 px";
+  for (int i = 2; i < 6; ++i)
+    if (std::abs(f.affine[i]) > kMaxGradient) return "flow gradient beyond 1e3 per frame";
   const Mat2 C = f.displacementCovariance();
   if (std::abs(C(0, 1) - C(1, 0)) > 1e-9 * (1 + C.cwiseAbs().maxCoeff()) || C(0, 0) <= 0 || C(1, 1) <= 0 ||
-      C.determinant() <= 0)
-    return "displacement covariance not symmetric positive definite";
+      C.determinant() <= 0 || C.trace() > kMaxDisplacement * kMaxDisplacement)
+    return "displacement covariance not symmetric positive definite, or beyond (1e4 px)^2";
   return "";
 }
 

@@ -1,5 +1,6 @@
 #include "hapi_eskf/surface_motion/surface_motion_estimator.hpp"
 
+#include "hapi_eskf/so3.hpp"
 #include "hapi_eskf/surface_motion/rts_smoother.hpp"
 
 #include <algorithm>
@@ -43,7 +44,6 @@ void SurfaceMotionEstimator::setMap(std::vector<Vec3> landmarks_world) { map_ = 
 
 void SurfaceMotionEstimator::reset() {
   odom_.clear();
-  chain_.clear();
   filter_ = RelativeVelocityFilter(s_);
   contexts_.clear();
   pending_.clear();
@@ -77,30 +77,38 @@ Eigen::Isometry3d SurfaceMotionEstimator::poseAt(double t) const {
   return interpolatePose(*(it - 1), *it, t);
 }
 
-Eigen::Isometry3d SurfaceMotionEstimator::chainAt(double t) const {
-  auto it = std::lower_bound(odom_.begin(), odom_.end(), t,
-                             [](const CameraOdometry& o, double x) { return o.t < x; });
-  const std::size_t i = static_cast<std::size_t>(it - odom_.begin());
-  if (i == 0) return chain_.front();
-  return interpolatePose(chain_[i - 1], odom_[i - 1].t, chain_[i], odom_[i].t, t);
+Eigen::Isometry3d SurfaceMotionEstimator::motionBetween(double t0, double t1) const {
+  // Each odometry interval [t_k-1, t_k] moves the camera by the mean of its
+  // two twists; the part of it inside [t0, t1] is taken. The poses
+  // themselves jump where the filter corrects them (each frame), the twist
+  // only by the velocity's correction.
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  auto first = std::lower_bound(odom_.begin(), odom_.end(), t0,
+                                [](const CameraOdometry& o, double x) { return o.t < x; });
+  const std::size_t k0 = std::max<std::size_t>(1, static_cast<std::size_t>(first - odom_.begin()));
+  for (std::size_t k = k0; k < odom_.size() && odom_[k - 1].t < t1; ++k) {
+    const double a = std::max(odom_[k - 1].t, t0), b = std::min(odom_[k].t, t1);
+    if (b <= a) continue;
+    const Vec3 v = 0.5 * (odom_[k - 1].v + odom_[k].v), w = 0.5 * (odom_[k - 1].w + odom_[k].w);
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    step.linear() = expSO3(w * (b - a));
+    step.translation() = v * (b - a);
+    T = T * step;
+  }
+  return T;
 }
 
 std::optional<SurfaceMotionOutput> SurfaceMotionEstimator::addOdometry(const CameraOdometry& odom) {
   pending_outcomes_.clear();
-  if (!odom.finite() || (!odom_.empty() && odom.t <= odom_.back().t)) return std::nullopt;
+  if (!odom.valid() || (!odom_.empty() && odom.t <= odom_.back().t)) return std::nullopt;
   if (!filter_.started()) {
     filter_.start(odom.t);
-    chain_.push_back(odom.T_world_cam);
   } else {
-    const Eigen::Isometry3d step = twistStep(odom_.back(), odom);
-    filter_.predict(odom.t, step.linear().transpose());
-    chain_.push_back(chain_.back() * step);
+    const Mat3 R_new_old = odom.T_world_cam.linear().transpose() * odom_.back().T_world_cam.linear();
+    filter_.predict(odom.t, R_new_old);
   }
   odom_.push_back(odom);
-  while (odom_.size() > 2 && odom_.back().t - odom_.front().t > s_.history_length) {
-    odom_.pop_front();
-    chain_.pop_front();
-  }
+  while (odom_.size() > 2 && odom_.back().t - odom_.front().t > s_.history_length) odom_.pop_front();
 
   // Held flows whose interval the odometry now covers, oldest first.
   while (!pending_.empty() && pending_.front().t <= odom.t) {
@@ -169,12 +177,9 @@ FlowOutcome SurfaceMotionEstimator::fuse(const FlowMeasurement& f, std::string* 
   };
   if (!has_camera_) return fail(FlowOutcome::kNoCamera, "no camera model of the imaging camera yet");
   if (f.t_prev < odom_.front().t) return fail(FlowOutcome::kTooOld, "its interval starts before the odometry kept");
-  // The map is looked up at the odometry's pose; the camera's motion over
-  // the interval comes from the twist-integrated chain (twistStep: the
-  // poses jump at the filter's corrections).
-  const Eigen::Isometry3d T0 = chainAt(f.t_prev), T1 = chainAt(f.t);
+  const Eigen::Isometry3d T0 = poseAt(f.t_prev), T1 = poseAt(f.t);
   const Vec3 ray = cam_.ray(Vec2(f.u, f.v));
-  const RaySurface rs = surfaceAtRay(map_, poseAt(f.t_prev), cam_, ray, s_);
+  const RaySurface rs = surfaceAtRay(map_, T0, cam_, ray, s_);
   if (rs.status != MotionStatus::kOk) return fail(FlowOutcome::kNoGeometry, rs.message);
   // The flow measures the mean of e over [t_prev, t] (times dt). It updates
   // the stored step nearest its middle (the filter predicts the later steps
@@ -184,8 +189,8 @@ FlowOutcome SurfaceMotionEstimator::fuse(const FlowMeasurement& f, std::string* 
   const double dt = f.t - f.t_prev;
   const std::size_t k = filter_.stepFor(0.5 * (f.t_prev + f.t));
   const FilterStep& st = filter_.steps()[k];
-  const Mat3 R_c1_ck = T1.linear().transpose() * chainAt(st.t).linear();
-  const FlowPrediction p = predictFlow(rs.geometry, T1.inverse() * T0, R_c1_ck * st.e, dt, cam_);
+  const Mat3 R_c1_ck = T1.linear().transpose() * poseAt(st.t).linear();
+  const FlowPrediction p = predictFlow(rs.geometry, motionBetween(f.t_prev, f.t).inverse(), R_c1_ck * st.e, dt, cam_);
   const Mat23 H = p.H * R_c1_ck;
   const Mat3 lag = filter_.processNoise(dt / 12 + std::abs(0.5 * (f.t_prev + f.t) - st.t));
   const Mat2 R = f.displacementCovariance() + p.R_geometry + H * lag * H.transpose();

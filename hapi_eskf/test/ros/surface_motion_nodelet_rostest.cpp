@@ -2,7 +2,9 @@
 // to the imaging camera the output says NO_EXTRINSIC, without a map
 // NO_DEPTH; with odometry of a still camera, a plane map and the flow of the
 // skin sliding at 6 mm/s it says OK with that velocity, and the service
-// returns the smoothed motion.
+// returns the smoothed motion. Flows in a wrong frame, out of order or with
+// NaN are counted on /diagnostics and change nothing.
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <hapi_msgs/GetSurfaceMotion.h>
 #include <hapi_msgs/ImageFlow.h>
@@ -14,6 +16,8 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
+#include <cstdlib>
+#include <map>
 #include <mutex>
 #include <vector>
 
@@ -29,6 +33,7 @@ class SurfaceMotionNodeletTest : public ::testing::Test {
     flow_pub_ = nh_.advertise<hapi_msgs::ImageFlow>("/imaging_flow/flow", 50);
     info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("/imaging/camera_info", 1, true);
     sub_ = nh_.subscribe("/surface_motion/surface_motion", 1000, &SurfaceMotionNodeletTest::onMotion, this);
+    diag_sub_ = nh_.subscribe("/diagnostics", 50, &SurfaceMotionNodeletTest::onDiagnostics, this);
     const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(20);
     while ((odom_pub_.getNumSubscribers() == 0 || flow_pub_.getNumSubscribers() == 0 ||
             sub_.getNumPublishers() == 0) && ros::WallTime::now() < until)
@@ -38,6 +43,24 @@ class SurfaceMotionNodeletTest : public ::testing::Test {
   void onMotion(const hapi_msgs::SurfaceMotion& m) {
     std::lock_guard<std::mutex> lk(mu_);
     received_.push_back(m);
+  }
+  void onDiagnostics(const diagnostic_msgs::DiagnosticArray& a) {
+    std::lock_guard<std::mutex> lk(mu_);
+    for (const auto& st : a.status)
+      if (st.name.find("surface motion") != std::string::npos)
+        for (const auto& kv : st.values) counters_[kv.key] = std::atoll(kv.value.c_str());
+  }
+  // Waits (5 s) until the diagnostics counter `key` reaches `at_least`.
+  bool counterReaches(const std::string& key, long long at_least) {
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(5);
+    while (ros::WallTime::now() < until) {
+      {
+        std::lock_guard<std::mutex> lk(mu_);
+        if (counters_.count(key) && counters_[key] >= at_least) return true;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    return false;
   }
   std::vector<hapi_msgs::SurfaceMotion> received() {
     std::lock_guard<std::mutex> lk(mu_);
@@ -94,7 +117,8 @@ class SurfaceMotionNodeletTest : public ::testing::Test {
 
   ros::NodeHandle nh_;
   ros::Publisher odom_pub_, map_pub_, flow_pub_, info_pub_;
-  ros::Subscriber sub_;
+  ros::Subscriber sub_, diag_sub_;
+  std::map<std::string, long long> counters_;
   tf2_ros::StaticTransformBroadcaster tf_;
   std::mutex mu_;
   std::vector<hapi_msgs::SurfaceMotion> received_;
@@ -158,8 +182,36 @@ TEST_F(SurfaceMotionNodeletTest, StatusesThenTheSkinsVelocity) {
   }
   EXPECT_GT(ok, 150);
   EXPECT_GT(fused, 30);
+  EXPECT_TRUE(counterReaches("flows fused", 30));
 
-  // 4. The smoothed motion over the last second.
+  // 4. Bad flows: a wrong frame, one out of order, one with NaN. Counted;
+  // the output stays OK with the same value.
+  hapi_msgs::ImageFlow bad;
+  bad.header.stamp = t - ros::Duration(0.5);  // before the last flow: out of order
+  bad.header.frame_id = "imaging_optical_frame";
+  bad.previous_stamp = bad.header.stamp - ros::Duration(0.025);
+  bad.u = 319.5;
+  bad.v = 239.5;
+  bad.affine[0] = 50;
+  for (int i = 0; i < 6; ++i) bad.affine_covariance[7 * i] = 4e-4;
+  flow_pub_.publish(bad);
+  bad.header.stamp = t + ros::Duration(0.025);
+  bad.previous_stamp = t;
+  bad.header.frame_id = "some_other_camera";
+  flow_pub_.publish(bad);
+  bad.header.frame_id = "imaging_optical_frame";
+  bad.affine[0] = std::nan("");
+  flow_pub_.publish(bad);
+  EXPECT_TRUE(counterReaches("flows out of order", 1));
+  EXPECT_TRUE(counterReaches("flows wrong frame", 1));
+  EXPECT_TRUE(counterReaches("flows invalid", 1));
+  t += ros::Duration(0.03);
+  publishOdom(t, "stereo_left_optical_frame");
+  ASSERT_TRUE(waitFor(t));
+  EXPECT_EQ(received().back().status, hapi_msgs::SurfaceMotion::STATUS_OK);
+  EXPECT_NEAR(received().back().surface_velocity.x, 1000 * kSpeed, 0.5);
+
+  // 5. The smoothed motion over the last second.
   hapi_msgs::GetSurfaceMotion srv;
   srv.request.start = t - ros::Duration(1.0);
   srv.request.end = t;

@@ -30,7 +30,9 @@ struct FlowMeasurement {
 
 // "" when the measurement may be fused, else why not: a status not OK, a
 // non-finite number, an interval out of [min_interval, max_interval], a
-// covariance of the displacement that is not positive definite.
+// displacement beyond 1e4 px or a gradient beyond 1e3 per frame, a
+// covariance of the displacement that is not positive definite or beyond
+// (1e4 px)^2.
 std::string checkFlow(const FlowMeasurement& f, double min_interval, double max_interval);
 
 // The predicted displacement and its linearisation in e.
@@ -42,7 +44,7 @@ struct FlowPrediction {
 
 // X0 = geometry0.point() is the skin point on the flow pixel's ray at t_prev
 // (camera frame at t_prev); T_c1_c0 the camera's motion over the interval
-// (the odometry's poses); e the extra skin velocity (camera frame at t):
+// (the odometry's twist integrated); e the extra skin velocity (camera frame at t):
 //   X1 = T_c1_c0 X0 + e (t - t_prev),  displacement = pi(X1) - pi(X0)
 // with pi the raw-pixel projection (the flow is measured on raw images).
 FlowPrediction predictFlow(const RayGeometry& geometry0, const Eigen::Isometry3d& T_c1_c0, const Vec3& e, double dt,

@@ -61,7 +61,7 @@ class SurfaceMotionEstimator {
   std::size_t mapSize() const { return map_.size(); }
 
   // The imaging camera's odometry (extrinsic applied: toRigidlyAttached).
-  // Empty when its stamp is not after the previous one or it is not finite.
+  // Empty when its stamp is not after the previous one or it is not valid().
   std::optional<SurfaceMotionOutput> addOdometry(const CameraOdometry& odom);
   // A flow; flows held for the odometry are fused by a later addOdometry
   // (pendingOutcomes() reports them). *why: the reason when not fused.
@@ -89,8 +89,10 @@ class SurfaceMotionEstimator {
     bool flow_fused;
   };
   FlowOutcome fuse(const FlowMeasurement& f, std::string* why);
-  Eigen::Isometry3d poseAt(double t) const;   // the odometry's pose (world)
-  Eigen::Isometry3d chainAt(double t) const;  // the twist-integrated pose (relative motion only)
+  Eigen::Isometry3d poseAt(double t) const;
+  // The camera's motion over [t0, t1] (T_c0_c1) from the odometry's twist,
+  // integrated (docs/DESIGN.md "Surface motion", fusion).
+  Eigen::Isometry3d motionBetween(double t0, double t1) const;
   SurfaceMotionOutput makeOutput(const Context& c, const Vec3& e, const Mat3& P) const;
 
   SurfaceMotionSettings s_;
@@ -98,7 +100,6 @@ class SurfaceMotionEstimator {
   bool has_camera_ = false;
   std::vector<Vec3> map_;
   std::deque<CameraOdometry> odom_;
-  std::deque<Eigen::Isometry3d> chain_;  // per odom_ sample: the twist-integrated pose (twistStep)
   RelativeVelocityFilter filter_;
   std::deque<Context> contexts_;
   std::deque<FlowMeasurement> pending_;
