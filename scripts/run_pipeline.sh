@@ -99,7 +99,7 @@ unset ROS_IP || true
 # Length, IMU, and the recording's camera-IMU time offset when it states one
 # (/ground_truth/calibration of the simulated recordings, Kalibr's convention).
 # The stereo rate: the median rate of the left images (from the bag's index).
-read -r BAG_SECONDS BAG_HAS_IMU BAG_TIME_OFFSET BAG_STEREO_HZ < <(/usr/bin/python3 -c "
+read -r BAG_SECONDS BAG_HAS_IMU BAG_TIME_OFFSET BAG_STEREO_HZ BAG_IMAGING_HZ < <(/usr/bin/python3 -c "
 import rosbag, sys, yaml
 b = rosbag.Bag(sys.argv[1])
 topics = b.get_type_and_topic_info().topics
@@ -109,7 +109,9 @@ for _, m, _ in b.read_messages(topics=['/ground_truth/calibration']):
     break
 left = topics.get('/stereo/left/image_raw')
 hz = '%.3f' % left.frequency if left is not None and left.frequency else '-'
-print(int(b.get_end_time() - b.get_start_time()) + 1, int('/imu/data' in topics), offset or '-', hz)" "$BAG")
+imaging = topics.get('/imaging/image_raw')
+imaging_hz = '%.3f' % imaging.frequency if imaging is not None and imaging.frequency else '-'
+print(int(b.get_end_time() - b.get_start_time()) + 1, int('/imu/data' in topics), offset or '-', hz, imaging_hz)" "$BAG")
 given() { printf '%s\n' "${LAUNCH_ARGS[@]}" | grep -q "^$1:="; }
 # The inertial filter when the bag has IMU samples, unless told otherwise.
 if [ "$BAG_HAS_IMU" = 1 ] && ! given motion_model; then
@@ -117,6 +119,16 @@ if [ "$BAG_HAS_IMU" = 1 ] && ! given motion_model; then
 fi
 if [ "$BAG_TIME_OFFSET" != "-" ] && ! given imu_time_offset; then
   LAUNCH_ARGS+=("imu_time_offset:=$BAG_TIME_OFFSET")
+fi
+# The imaging camera of the surface motion: the bag's own (/imaging, make_sim_bag
+# --imaging-rate) when it has one, else the left camera at the stereo rate.
+if ! given imaging_image; then
+  if [ "$BAG_IMAGING_HZ" != "-" ]; then
+    LAUNCH_ARGS+=("imaging_image:=/imaging/image_raw" "imaging_info:=/imaging/camera_info"
+                  "imaging_frame_rate:=$(printf '%.0f' "$BAG_IMAGING_HZ")")
+  elif [ "$BAG_STEREO_HZ" != "-" ]; then
+    LAUNCH_ARGS+=("imaging_frame_rate:=$(printf '%.0f' "$BAG_STEREO_HZ")")
+  fi
 fi
 echo "[pipeline] launch arguments: ${LAUNCH_ARGS[*]:-(none: the motion model of config/eskf.yaml)}"
 # The evaluator ends the launch once the odometry has been quiet for a few

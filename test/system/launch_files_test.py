@@ -73,8 +73,14 @@ class LaunchFilesTest(unittest.TestCase):
 
     def test_server(self):
         ns = self.check_runnable(load("server.launch"))
-        self.assertEqual(set(ns), {"/hapi_server_manager", "/eskf"})
+        self.assertEqual(set(ns), {"/hapi_server_manager", "/eskf", "/surface_motion"})
         self.assertEqual(remaps(ns["/eskf"])["~landmarks"], "/stereo_frontend/landmarks")
+        # The surface motion reads the ESKF's private outputs and the front end's image flow.
+        sm = remaps(ns["/surface_motion"])
+        self.assertIn("hapi_eskf/SurfaceMotionNodelet", ns["/surface_motion"].args)
+        self.assertEqual((sm["odom"], sm["map"], sm["flow"]), ("/eskf/odom", "/eskf/map", "/imaging_flow/flow"))
+        self.assertEqual(set(self.check_runnable(load("server.launch", "surface_motion:=false"))),
+                         {"/hapi_server_manager", "/eskf"})
         ns = self.check_runnable(load("server.launch", "rviz:=true"))
         self.assertIn("/rviz", ns)
         self.assertIn("hapi.rviz", ns["/rviz"].args)
@@ -89,6 +95,12 @@ class LaunchFilesTest(unittest.TestCase):
         self.assertEqual(fe.args.split()[2], be.args.split()[2], "front and back end in the same manager")
         # The front end's output is the back end's input.
         self.assertEqual(remaps(fe)["~landmarks"], remaps(be)["~landmarks"])
+        # The imaging camera is the left camera by default; its flow (/imaging_flow/flow) feeds the surface motion.
+        flow, sm = ns["/imaging_flow"], ns["/surface_motion"]
+        self.assertIn("hapi_frontend/ImagingFlowNodelet", flow.args)
+        self.assertEqual(remaps(flow)["image"], "/stereo/left/image_raw")
+        self.assertEqual(remaps(sm)["flow"], "/imaging_flow/flow")
+        self.assertEqual(remaps(sm)["imaging/camera_info"], "/stereo/left/camera_info")
         self.assertNotIn("/rviz", ns, "headless by default")
 
     def test_all_in_one_two_managers(self):
