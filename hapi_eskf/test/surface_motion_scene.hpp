@@ -42,6 +42,7 @@ struct ScanConfig {
   double flow_sigma = 0.02;     // [px] per axis
   double flow_latency = 0.012;  // [s] after the frame's stamp
   Vec3 odom_velocity_bias = Vec3::Zero();  // [m/s] the odometry's error
+  double odom_rate_noise = 0;              // [rad/s] white noise on the odometry's w, per axis (a gyro's)
   // [m] per axis: the odometry's position jumps by this much (Gaussian) at
   // every 10 Hz frame, as the filter's corrections do.
   double odom_position_jump = 0;
@@ -61,7 +62,7 @@ struct ScanSample {
 // arrival, the flow of [t0, t1] delivered flow_latency after t1.
 inline std::vector<ScanSample> runScan(const ScanConfig& c, SurfaceMotionEstimator* est) {
   std::mt19937 rng(c.seed);
-  std::normal_distribution<double> noise(0, c.flow_sigma);
+  std::normal_distribution<double> noise(0, c.flow_sigma), unit(0, 1);
   const ImagingCamera cam = est->camera();
   const Vec3 ray = cam.ray(est->pixel());
   const int per_frame = static_cast<int>(std::lround(c.odom_rate / c.flow_rate));
@@ -109,6 +110,7 @@ inline std::vector<ScanSample> runScan(const ScanConfig& c, SurfaceMotionEstimat
     o.t = t;
     o.T_world_cam.translation() = p_odom[k];
     o.v = c.device_velocity(t) + c.odom_velocity_bias;
+    if (c.odom_rate_noise > 0) o.w = c.odom_rate_noise * Vec3(unit(rng), unit(rng), unit(rng));
     o.twist_covariance = 1e-6 * Mat6::Identity();
     const auto r = est->addOdometry(o);
     if (!r) continue;

@@ -202,13 +202,31 @@ FlowOutcome SurfaceMotionEstimator::fuse(const FlowMeasurement& f, std::string* 
   return fail(FlowOutcome::kGated, "innovation NIS " + std::to_string(u.nis) + " beyond the gate");
 }
 
+SurfaceMotionEstimator::Context SurfaceMotionEstimator::smoothedTwist(std::size_t i) const {
+  // A centred quadratic Savitzky-Golay fit over 9 odometry samples (45 ms at
+  // 200 Hz): it passes a 12 Hz tremor with 2.4 % loss and quarters the
+  // variance of the gyro's white noise in w, which the causal output carries
+  // in full (DESIGN "Surface motion", smoother). Near the ends: as given.
+  static constexpr double kWeights[9] = {-21, 14, 39, 54, 59, 54, 39, 14, -21};
+  static constexpr int kHalf = 4;
+  Context c = contexts_[i];
+  if (i < kHalf || i + kHalf >= contexts_.size()) return c;
+  c.v.setZero();
+  c.w.setZero();
+  for (int k = -kHalf; k <= kHalf; ++k) {
+    c.v += kWeights[k + kHalf] / 231.0 * contexts_[i + k].v;
+    c.w += kWeights[k + kHalf] / 231.0 * contexts_[i + k].w;
+  }
+  return c;
+}
+
 std::vector<SurfaceMotionOutput> SurfaceMotionEstimator::smoothed(double start, double end) const {
   std::vector<SurfaceMotionOutput> out;
   for (const SmoothedState& st : smoothInterval(filter_.steps(), start, end)) {
     auto it = std::lower_bound(contexts_.begin(), contexts_.end(), st.t,
                                [](const Context& c, double x) { return c.t < x; });
     if (it == contexts_.end() || it->t != st.t) continue;
-    out.push_back(makeOutput(*it, st.e, st.P));
+    out.push_back(makeOutput(smoothedTwist(static_cast<std::size_t>(it - contexts_.begin())), st.e, st.P));
   }
   return out;
 }

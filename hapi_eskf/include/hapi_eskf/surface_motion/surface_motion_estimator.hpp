@@ -89,6 +89,8 @@ class SurfaceMotionEstimator {
     bool flow_fused;
   };
   FlowOutcome fuse(const FlowMeasurement& f, std::string* why);
+  // contexts_[i] with its twist smoothed over its neighbours (the smoother's outputs).
+  Context smoothedTwist(std::size_t i) const;
   Eigen::Isometry3d poseAt(double t) const;
   // The camera's motion over [t0, t1] (T_c0_c1) from the odometry's twist,
   // integrated (docs/DESIGN.md "Surface motion", fusion).
