@@ -37,7 +37,11 @@ set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 WS="${HAPI_WS:-$REPO/.ws}"
 export PATH="/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
+# A virtualenv or pyenv must not shadow Debian's Python; the Python packages
+# of a sourced catkin workspace (its generated messages) stay.
+CATKIN_PY="$(tr ':' '\n' <<<"${PYTHONPATH:-}" | grep -E '/(devel|install)[^:]*/lib/python3/dist-packages/?$' | paste -sd: - || true)"
 unset PYTHONPATH PYTHONHOME VIRTUAL_ENV || true
+[ -z "$CATKIN_PY" ] || export PYTHONPATH="$CATKIN_PY"
 
 die() { echo "[pipeline] ERROR: $*" >&2; exit 1; }
 
