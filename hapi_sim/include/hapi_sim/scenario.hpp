@@ -8,7 +8,8 @@
 // Frames and clocks (docs/DESIGN.md "Data"):
 //  * inertial frame: gravity along -z; the device's IMU moves in it.
 //  * scene frame = ground-truth "world": the scene's geometry is fixed in it;
-//    it equals the inertial frame except in the subject-motion scenario.
+//    it equals the inertial frame except where the scene moves (subject,
+//    measurement_subject, stage).
 //  * true time = the IMU clock, 0 at the first IMU sample. Frame k is exposed
 //    around true time k / rate (mid-exposure); its camera stamp is
 //    t_cam = t_imu - time_offset (Kalibr: t_imu = t_cam + timeshift_cam_imu),
