@@ -58,7 +58,7 @@ struct ScenarioConfig {
   double imaging_rate = 0.0;  // Hz, the imaging camera's frame rate (0: no imaging stream)
   // px, the imaging camera's surface-motion pixel; negative: the image centre.
   Eigen::Vector2d imaging_pixel = Eigen::Vector2d(-1.0, -1.0);
-  double stage_speed = 0.005;  // m/s, the stage trajectory's speed
+  double stage_speed = kDefaultStageSpeed;  // m/s, the stage trajectory's speed
   // "" when valid, else what is wrong (one rule for every front end).
   std::string validate() const;
 };
