@@ -318,7 +318,7 @@ TEST_F(SimBagTest, ImagingCameraAndSurfaceMotionTruth) {
     EXPECT_EQ(m.u, 79.5);
     EXPECT_EQ(m.v, 59.5);
     EXPECT_EQ(m.frame_rate, 40.0);
-    const SurfaceMotionTruth want = sc.surfaceMotion(i * 0.005);
+    const SurfaceMotionTruth want = sc.surfaceMotion(sc.imuTimeNs(i) * 1e-9);
     EXPECT_EQ(vec(m.point), want.point);
     EXPECT_EQ(vec(m.normal), want.normal);
     EXPECT_EQ(vec(m.surface_velocity), want.surface_velocity);

@@ -237,7 +237,9 @@ TEST(MeasurementScenario, HitsHapisMeasuredStatistics) {
   for (uint32_t seed = 1; seed <= 10; ++seed) {
     const auto voluntary = makeMeasurementTrajectory(skin().view(), seed, false);
     const auto held = makeMeasurementTrajectory(skin().view(), seed, true);
-    double spot = 0, spot_max = 0, dev = 0, dev_max = 0, spot_tremor = 0;
+    const auto tremor = makeStillTrajectory(skin().view(), seed, true);  // tremor alone, for the record
+    double spot = 0, spot_max = 0, dev = 0, dev_max = 0;
+    double spot_tremor = 0, spot_tremor_max = 0, dev_tremor = 0, dev_tremor_max = 0, spot_alone = 0, dev_alone = 0;
     int n = 0;
     for (double t = 0; t <= want.window + 1e-9; t += 0.005, ++n) {
       const MotionSample m = voluntary->sample(t);
@@ -249,18 +251,29 @@ TEST(MeasurementScenario, HitsHapisMeasuredStatistics) {
       spot_max = std::max(spot_max, s.speed);
       dev += 1e3 * m.v.norm();
       dev_max = std::max(dev_max, 1e3 * m.v.norm());
-      spot_tremor += surfaceMotionTruth(skin(), rig.left, centre, 40, relativeMotion(still.sample(t), held->sample(t))).speed;
+      const MotionSample h = held->sample(t);
+      const double st = surfaceMotionTruth(skin(), rig.left, centre, 40, relativeMotion(still.sample(t), h)).speed;
+      spot_tremor += st;
+      spot_tremor_max = std::max(spot_tremor_max, st);
+      dev_tremor += 1e3 * h.v.norm();
+      dev_tremor_max = std::max(dev_tremor_max, 1e3 * h.v.norm());
+      const MotionSample a = tremor->sample(t);
+      spot_alone += surfaceMotionTruth(skin(), rig.left, centre, 40, relativeMotion(still.sample(t), a)).speed;
+      dev_alone += 1e3 * a.v.norm();
     }
     spot /= n;
     dev /= n;
     spot_tremor /= n;
+    dev_tremor /= n;
     EXPECT_NEAR(spot, 1e3 * want.surface_mean, 0.05 * 1e3 * want.surface_mean) << "seed " << seed;
     EXPECT_NEAR(dev, 1e3 * want.translation_mean, 0.01) << "seed " << seed;
     EXPECT_NEAR(spot_max, 1e3 * want.surface_max, 0.2 * 1e3 * want.surface_max) << "seed " << seed;
     EXPECT_NEAR(dev_max, 1e3 * want.translation_max, 0.2 * 1e3 * want.translation_max) << "seed " << seed;
     EXPECT_GT(spot_tremor, spot + 1.0) << "seed " << seed;
-    std::cerr << "measurement seed " << seed << ": spot mean " << spot << " max " << spot_max << " mm/s, device mean "
-              << dev << " max " << dev_max << " mm/s; with tremor spot mean " << spot_tremor << " mm/s\n";
+    std::cerr << "measurement seed " << seed << " [mm/s]: voluntary spot mean " << spot << " max " << spot_max
+              << ", device mean " << dev << " max " << dev_max << "; with tremor spot mean " << spot_tremor << " max "
+              << spot_tremor_max << ", device mean " << dev_tremor << " max " << dev_tremor_max
+              << "; tremor alone spot mean " << spot_alone / n << ", device mean " << dev_alone / n << "\n";
   }
   // Seeds differ.
   EXPECT_GT((makeMeasurementTrajectory(skin().view(), 1)->pose(3.0).p -

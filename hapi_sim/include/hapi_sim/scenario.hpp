@@ -8,7 +8,8 @@
 // Frames and clocks (docs/DESIGN.md "Data"):
 //  * inertial frame: gravity along -z; the device's IMU moves in it.
 //  * scene frame = ground-truth "world": the scene's geometry is fixed in it;
-//    it equals the inertial frame except in the subject-motion scenario.
+//    it equals the inertial frame except where the scene moves (subject,
+//    measurement_subject, stage).
 //  * true time = the IMU clock, 0 at the first IMU sample. Frame k is exposed
 //    around true time k / rate (mid-exposure); its camera stamp is
 //    t_cam = t_imu - time_offset (Kalibr: t_imu = t_cam + timeshift_cam_imu),
@@ -57,7 +58,7 @@ struct ScenarioConfig {
   double imaging_rate = 0.0;  // Hz, the imaging camera's frame rate (0: no imaging stream)
   // px, the imaging camera's surface-motion pixel; negative: the image centre.
   Eigen::Vector2d imaging_pixel = Eigen::Vector2d(-1.0, -1.0);
-  double stage_speed = 0.005;  // m/s, the stage trajectory's speed
+  double stage_speed = kDefaultStageSpeed;  // m/s, the stage trajectory's speed
   // "" when valid, else what is wrong (one rule for every front end).
   std::string validate() const;
 };

@@ -101,12 +101,13 @@ std::unique_ptr<RigidMotion> makeMeasurementSceneMotion(const ViewGeometry& view
 // The stage: the scene translates along the view's `along` axis, still for
 // kStageStill, then a C2 ramp over kStageRamp to `speed` (m/s), constant after.
 constexpr double kStageStill = 0.5, kStageRamp = 0.5;  // s
+constexpr double kDefaultStageSpeed = 0.005;             // m/s, the study's middle speed
 std::unique_ptr<RigidMotion> makeStageSceneMotion(const ViewGeometry& view, double speed);
 
 // Device motion and scene motion of a scenario (the scene is static except
 // for the subject, measurement_subject and stage kinds; stage_speed in m/s).
 std::unique_ptr<RigidMotion> makeDeviceMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeSceneMotion(TrajectoryKind kind, const ViewGeometry& view, uint32_t seed,
-                                             double stage_speed = 0.005);
+                                             double stage_speed = kDefaultStageSpeed);
 
 }  // namespace hapi_sim

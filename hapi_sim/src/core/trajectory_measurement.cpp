@@ -71,11 +71,11 @@ class VoluntaryMotion {
     rest_.R = lookAt(rest_.p, O, b, Jet2(0.0));
     surface_ = view.globe ? Eigen::Vector3d(view.centre + view.globe_radius * view.normal()) : view.centre;
     GaussianRng rng(mixSeed(seed, 0xFFFFFF07u, 23));
-    double best = 1e300;
+    double best = 0;
     for (int draw = 0; draw < kMaxDraws; ++draw) {
       VoluntaryShape s = drawShape(rng);
       const double miss = normalise(&s);
-      if (miss < best) { best = miss; shape_ = s; }
+      if (draw == 0 || miss < best) { best = miss; shape_ = s; }
       if (miss <= kPeakTolerance) break;
     }
   }
@@ -137,7 +137,7 @@ class VoluntaryMotion {
     s->kt = m.translation_mean / statistics(*s).device_mean;
     if (statistics(*s).spot_mean >= m.surface_mean) return 1e300;  // translation alone too fast across
     double lo = 0.0, hi = 1e-3;
-    while (statistics(withKr(*s, hi)).spot_mean < m.surface_mean) hi *= 2;
+    while (statistics(withKr(*s, hi)).spot_mean < m.surface_mean && hi < 1e3) hi *= 2;
     for (int it = 0; it < 40; ++it) {
       const double mid = 0.5 * (lo + hi);
       (statistics(withKr(*s, mid)).spot_mean < m.surface_mean ? lo : hi) = mid;

@@ -21,7 +21,7 @@
 //   /ground_truth/odometry nav_msgs/Odometry at IMU rate: the left camera in world (the scene
 //                          frame), twist in the child frame (REP-105)
 //   /ground_truth/imu_odometry  the IMU in the inertial frame "inertial", IMU rate (equals world
-//                          except in the subject-motion scenario, where the scene moves)
+//                          except where the scene moves: subject, measurement_subject, stage)
 //   /ground_truth/scene    latched YAML of the scene's surfaces in world
 //   /ground_truth/calibration  latched YAML: the true T_cam_imu, time_offset_s and its sign, IMU noise
 //   /globe/info            (globe scene) latched, 1 Hz, as make_globe_bag
