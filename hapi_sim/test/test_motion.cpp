@@ -65,7 +65,7 @@ Pose extrinsic() { return CameraImuCalibration::makeDefault().T_cam_imu; }
 // The kinds that move (rest and orbit are covered by their own tests).
 const TrajectoryKind kMoving[] = {TrajectoryKind::Smooth,  TrajectoryKind::Handheld,    TrajectoryKind::Fast,
                                   TrajectoryKind::Loop,    TrajectoryKind::Subject,     TrajectoryKind::Measurement,
-                                  TrajectoryKind::MeasurementSubject, TrajectoryKind::Stage};
+                                  TrajectoryKind::MeasurementSubject, TrajectoryKind::Stage, TrajectoryKind::Tremor};
 
 TEST(Trajectories, ExactDerivativesMatchFiniteDifferences) {
   for (const ViewGeometry& view : {skinView(), globeView()})
@@ -167,6 +167,27 @@ TEST(Trajectories, RestNeverMoves) {
   }
   const auto scene = makeSceneMotion(kind, skinView(), 3);
   EXPECT_LT(scene->sample(7.0).p.norm() + scene->sample(7.0).v.norm(), 1e-15);
+}
+
+// Tremor only: the device held still moves by the hand's tremor alone
+// (0.1-0.5 mm at 8-12 Hz: no more than a millimetre from its start, but
+// millimetres per second), in a static scene.
+TEST(Trajectories, TremorOnlyShakesInPlace) {
+  TrajectoryKind kind;
+  ASSERT_TRUE(parseTrajectoryKind("tremor", &kind));
+  EXPECT_EQ(trajectoryName(kind), "tremor");
+  const auto device = makeDeviceMotion(kind, skinView(), 3);
+  const MotionSample s0 = device->sample(0.0);
+  double max_dist = 0, max_speed = 0;
+  for (double t = 0.0; t < 7.0; t += 0.001) {
+    const MotionSample s = device->sample(t);
+    max_dist = std::max(max_dist, (s.p - s0.p).norm());
+    max_speed = std::max(max_speed, s.v.norm());
+  }
+  EXPECT_LT(max_dist, 2e-3);
+  EXPECT_GT(max_speed, 3e-3);
+  const auto scene = makeSceneMotion(kind, skinView(), 3);
+  EXPECT_LT(scene->sample(3.0).p.norm() + scene->sample(3.0).v.norm(), 1e-15);
 }
 
 // Noise on: white-noise standard deviation = density * sqrt(rate), bias

@@ -14,6 +14,7 @@
 //   measurement_subject  device held still (tremor only); the scene makes the same relative motion
 //   stage                device on a stand; the scene translates in its plane at --stage-speed
 //                        (still 0.5 s, then a 0.5 s ramp to the constant speed)
+//   tremor               device held still (tremor only), scene static: the hand's tremor alone
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -26,7 +27,7 @@
 
 namespace hapi_sim {
 
-enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest, Orbit, Measurement, MeasurementSubject, Stage };
+enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest, Orbit, Measurement, MeasurementSubject, Stage, Tremor };
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind);
 std::string trajectoryName(TrajectoryKind kind);
 

@@ -25,7 +25,7 @@ Eigen::Vector2d parsePixelArg(const std::string& k, const std::string& v) {
 
 const char* const kScenarioOptionsUsage =
     "--scene globe|skin|patch\n"
-    "  --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage\n"
+    "  --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor\n"
     "  [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ] [--exposure-ms MS] [--blur-samples N]\n"
     "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]\n"
     "  [--realism ideal|real] [--imaging-rate HZ (0: none)] [--imaging-pixel U,V (default: the centre)]\n"

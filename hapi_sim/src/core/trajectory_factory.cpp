@@ -5,9 +5,10 @@
 namespace hapi_sim {
 namespace {
 const char* const kNames[] = {"smooth", "handheld", "fast",        "loop",                "subject",
-                              "rest",   "orbit",    "measurement", "measurement_subject", "stage"};
+                              "rest",   "orbit",    "measurement", "measurement_subject", "stage",
+                              "tremor"};
 constexpr int kCount = sizeof(kNames) / sizeof(kNames[0]);
-static_assert(kCount == static_cast<int>(TrajectoryKind::Stage) + 1, "one name per kind");
+static_assert(kCount == static_cast<int>(TrajectoryKind::Tremor) + 1, "one name per kind");
 }
 
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind) {
@@ -30,6 +31,7 @@ std::unique_ptr<RigidMotion> makeDeviceMotion(TrajectoryKind kind, const ViewGeo
     case TrajectoryKind::Measurement: return makeMeasurementTrajectory(view, seed);
     case TrajectoryKind::MeasurementSubject: return makeStillTrajectory(view, seed);
     case TrajectoryKind::Stage: return makeStillTrajectory(view, seed, false);
+    case TrajectoryKind::Tremor: return makeStillTrajectory(view, seed);
   }
   return nullptr;
 }

@@ -2,7 +2,7 @@
 // (docs/DESIGN.md "Data") to a rosbag and/or a EuRoC/ASL folder.
 //
 //   make_sim_bag --scene globe|skin|patch
-//                --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage
+//                --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor
 //                [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]
 //                [--output FILE.bag] [--asl DIR]
 //                [--exposure-ms MS] [--blur-samples N] [--photometric 0|1]
