@@ -136,7 +136,8 @@ TEST(ImuNoiseEstimator, RecoversTheWhiteNoiseDensityUnderAHandsMotion) {
               n.accel.x(), n.accel.y(), n.accel.z());
 
   // Fewer differences than an estimate needs: not measured.
-  const ImuNoiseDensity few = estimateOver(std::vector<ImuSample>(w.begin(), w.begin() + 50), 4.0);
+  const ImuNoiseDensity few =
+      estimateOver(std::vector<ImuSample>(w.begin(), w.begin() + ImuNoiseEstimator::kMinDifferences + 2), 4.0);
   EXPECT_EQ(few.gyro, Vec3::Zero());
   EXPECT_EQ(few.accel, Vec3::Zero());
 }
@@ -247,7 +248,7 @@ ConsistencyRun runVibrating(bool in_situ, unsigned seed) {
       p_est0 = est.p;
       anchored = true;
     }
-    if (t < 1.0) continue;  // the first second: the in-situ estimate needs its differences
+    if (t < 1.0) continue;  // the first second: the start's transient
     const Mat6 C = f.cameraPoseCovariance();
     const Vec3 dp = R_anchor * (cam.p - p_true0) + p_est0 - est.p;
     const Vec3 dth = logSO3(est.q.toRotationMatrix().transpose() * R_anchor * cam.q.toRotationMatrix());
