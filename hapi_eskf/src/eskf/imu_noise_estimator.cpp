@@ -14,7 +14,8 @@ constexpr double kThirdDifferenceGain = 20.0;
 
 void ImuNoiseEstimator::add(const ImuSample& sample) {
   if (!std::isfinite(sample.stamp) || !sample.gyro.allFinite() || !sample.accel.allFinite()) return;
-  if (!samples_.empty() && sample.stamp <= samples_.back().stamp) samples_.clear();
+  if (!samples_.empty() && sample.stamp == samples_.back().stamp) return;  // a repeated sample
+  if (!samples_.empty() && sample.stamp < samples_.back().stamp) samples_.clear();
   samples_.push_back(sample);
   while (samples_.size() > 1 && samples_.back().stamp - samples_.front().stamp > window_) samples_.pop_front();
 }

@@ -31,8 +31,8 @@ class ImuNoiseEstimator {
 
   explicit ImuNoiseEstimator(double window_s) : window_(window_s) {}
 
-  // A sample as read (stamps increasing; an earlier or equal stamp restarts
-  // the window: a bag loop, a reset).
+  // A sample as read (stamps increasing; an earlier stamp restarts the
+  // window: a bag loop, a reset; a repeated stamp is ignored).
   void add(const ImuSample& sample);
   void clear() { samples_.clear(); }
 
