@@ -179,7 +179,16 @@ TEST(ImuNoiseEstimator, TheWindowSlidesAndSkipsGaps) {
     if (i % 7 != 3) gappy.push_back(all[i]);
   expectWithin(estimateOver(gappy, 10.0).gyro, quiet.gyro, 0.1, "gyro with gaps");
 
-  // A stamp going back (a bag loop) restarts the window.
+  // A repeated sample (a driver's duplicate) is ignored; a stamp going back
+  // (a bag loop) restarts the window.
+  const ImuNoiseDensity before = e.estimate();
+  const std::vector<ImuSample> last = samples(hand, vibrating, 7.1, 7.105, rng);
+  ASSERT_EQ(last.size(), 1u);
+  e.add(last[0]);
+  const ImuNoiseDensity with_last = e.estimate();
+  e.add(last[0]);
+  EXPECT_EQ(e.estimate().gyro, with_last.gyro);
+  EXPECT_GT(with_last.gyro.x(), 0.5 * before.gyro.x());
   e.add(ImuSample{0.0, Vec3::Zero(), Vec3::Zero()});
   EXPECT_EQ(e.estimate().gyro, Vec3::Zero());
 }
