@@ -477,7 +477,7 @@ TEST(Eskf, PredictEntryPoints) {
 
   // Gyro: w is replaced by the measurement less the bias, its variance by
   // sigma^2/dt plus the bias's (then damped), sigma the inflated density
-  // (settings.hpp gyroProcessNoiseDensity); the camera is the IMU here.
+  // (motion_model.hpp imuNoiseDensities); the camera is the IMU here.
   const Vec3 gyro(0.0, -0.3, 0.05);
   ASSERT_EQ(f.addImu(ImuSample{1.6, gyro, Vec3::Zero()}), Status::kOk);
   const double lam = std::pow(0.5, 0.1);

@@ -372,6 +372,13 @@ int main(int argc, char** argv) {
                 dr.x(), dr.y(), dr.z(), sr.x(), sr.y(), sr.z(), calib.p_bc.x(), calib.p_bc.y(), calib.p_bc.z(),
                 calib.p_bc_sigma.x() * 1e3, calib.p_bc_sigma.y() * 1e3, calib.p_bc_sigma.z() * 1e3);
   }
+  if (use_imu && s.imu_noise_in_situ) {
+    const ImuNoiseDensity& n = eskf.imuNoise();
+    std::printf("IMU noise in situ: gyro %.3g %.3g %.3g rad/s/sqrt(Hz) (configured %.3g), accelerometer %.3g %.3g "
+                "%.3g m/s^2/sqrt(Hz) (configured %.3g)\n",
+                n.gyro.x(), n.gyro.y(), n.gyro.z(), s.gyro_noise_density, n.accel.x(), n.accel.y(), n.accel.z(),
+                s.accel_noise_density);
+  }
   if (est.size() < 3) { std::cerr << "too few poses\n"; return 1; }
   Mat3 R;
   Vec3 t;

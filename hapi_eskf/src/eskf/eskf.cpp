@@ -52,6 +52,7 @@ Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> back
       model_(makeMotionModel(settings, extrinsic)),
       frame_error_(model_->poseDim(), settings),
       calibration_(*model_),
+      imu_noise_(settings.imu_noise_window),
       scene_motion_(settings),
       relocaliser_(settings) {
   // Construction never throws; a mismatch is reported by reset()/processFrame().
@@ -85,6 +86,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   velocity_measured_ = false;  // the initial velocity is a guess
   awaiting_alignment_ = model_->kind() == MotionModelKind::kInertial;
   alignment_samples_.clear();
+  imu_noise_.clear();
   scene_motion_.reset();
   initialised_ = true;
   book_.clear();
@@ -175,10 +177,12 @@ Status Eskf::addImu(const ImuSample& sample) {
   if (awaiting_alignment_) {
     if (!alignment_samples_.empty() && sample.stamp <= alignment_samples_.back().stamp)
       return Status::kInvalidArgument;
+    if (settings_.imu_noise_in_situ) imu_noise_.add(sample);
     alignment_samples_.push_back(sample);
     if (sample.stamp - alignment_samples_.front().stamp >= settings_.alignment_window) return align();
     return Status::kOk;
   }
+  if (settings_.imu_noise_in_situ) imu_noise_.add(sample);
   ImuSample moved = model_->onEstimatedClock(sample, state_);
   if (!held_imu_.empty()) moved.stamp = std::max(moved.stamp, held_imu_.back().stamp);
   held_imu_.push_back(moved);
@@ -219,6 +223,7 @@ Status Eskf::align() {
   held_imu_.clear();
   clearPendingPrediction();
   state_ = start.x;
+  refreshImuNoise();
   restartFirstEstimates();
   time_ = alignment_samples_.back().stamp;
   relocaliser_.reset(time_);
@@ -227,6 +232,10 @@ Status Eskf::align() {
   awaiting_alignment_ = false;
   velocity_measured_ = start.still;  // zero, measured by the still window
   return Status::kOk;
+}
+
+void Eskf::refreshImuNoise() {
+  if (settings_.imu_noise_in_situ && model_->usesImu()) state_.imu_noise = imu_noise_.estimate();
 }
 
 PoseMat Eskf::poseCovariance() const {
@@ -358,6 +367,7 @@ Status Eskf::predictFrame(FrameWork& w) {
     return st;
   }
   w.previous_stamp = relocaliser_.acceptFrame(stamp);
+  refreshImuNoise();
   // From here to finishFrame() the first 6 pose columns are the camera's
   // pose error (calibration_block.hpp) and the pose this frame sees, with
   // its shared vision error (frame_error_block.hpp).

@@ -40,7 +40,8 @@ class GyroMotionModel final : public CameraStateMotionModel {
       const Mat3 Rcb = extrinsic_.R_imu_cam.transpose();
       const Vec3 rate = Rcb * (imu->gyro - x.b_g);
       Mat12 F12, Q12;
-      gyroStep(toPose(x), rate, s_.gyroProcessNoiseDensity(), dt, s_, &y, &F12, &Q12);
+      // The step's noise is isotropic: the largest axis' density.
+      gyroStep(toPose(x), rate, imuNoiseDensities(x, s_).gyro.maxCoeff(), dt, s_, &y, &F12, &Q12);
       PoseState xg = toPose(x);
       xg.w = rate;
       F->topLeftCorner<12, 12>() = F12;

@@ -142,7 +142,8 @@ class InertialMotionModel final : public MotionModel {
   //   dtheta' = Exp(omega dt)^T dtheta - J_r(omega dt) dt db_g
   // Noise: accelerometer white noise n_a (its mean over dt has variance
   // n_a^2 / dt) enters v as -R dt and p as -R dt^2 / 2; gyro noise n_g
-  // enters theta as -J_r dt; the biases random-walk.
+  // enters theta as -J_r dt; the biases random-walk. n_a, n_g per IMU axis:
+  // imuNoiseDensities (the datasheet's or the in-situ ones, if larger).
   void step(const NominalState& x, double dt, const ImuSample* imu, NominalState* next, PoseMat* F,
             PoseMat* Q) const override {
     *next = x;
@@ -184,14 +185,27 @@ class InertialMotionModel final : public MotionModel {
     F->block<3, 3>(kIdxTheta, kIdxTheta) = expSO3(omega * dt).transpose();
     F->block<3, 3>(kIdxTheta, kIdxBg) = -Jr * dt;
 
-    const double na2 = s_.accel_noise_density * s_.accel_noise_density;
-    const double ng2 = s_.gyroProcessNoiseDensity() * s_.gyroProcessNoiseDensity();
+    const ImuNoiseDensity n = imuNoiseDensities(x, s_);
     *Q = PoseMat::Zero(dim_, dim_);
-    Q->block<3, 3>(kIdxP, kIdxP) = I * (na2 * dt * dt * dt / 4.0);
-    Q->block<3, 3>(kIdxP, kIdxV) = I * (na2 * dt * dt / 2.0);
-    Q->block<3, 3>(kIdxV, kIdxP) = I * (na2 * dt * dt / 2.0);
-    Q->block<3, 3>(kIdxV, kIdxV) = I * (na2 * dt);
-    Q->block<3, 3>(kIdxTheta, kIdxTheta) = Jr * Jr.transpose() * (ng2 * dt);
+    if (isotropic(n.accel) && isotropic(n.gyro)) {
+      const double na2 = n.accel.x() * n.accel.x(), ng2 = n.gyro.x() * n.gyro.x();
+      Q->block<3, 3>(kIdxP, kIdxP) = I * (na2 * dt * dt * dt / 4.0);
+      Q->block<3, 3>(kIdxP, kIdxV) = I * (na2 * dt * dt / 2.0);
+      Q->block<3, 3>(kIdxV, kIdxP) = I * (na2 * dt * dt / 2.0);
+      Q->block<3, 3>(kIdxV, kIdxV) = I * (na2 * dt);
+      Q->block<3, 3>(kIdxTheta, kIdxTheta) = Jr * Jr.transpose() * (ng2 * dt);
+    } else {
+      // Densities per IMU axis (the in-situ ones differ between axes): the
+      // accelerometer's noise in the world R diag(n_a^2) R^T, the gyro's
+      // J_r diag(n_g^2) J_r^T.
+      const Mat3 Na = R * n.accel.cwiseAbs2().asDiagonal() * R.transpose();
+      const Mat3 Ng = Jr * n.gyro.cwiseAbs2().asDiagonal() * Jr.transpose();
+      Q->block<3, 3>(kIdxP, kIdxP) = Na * (dt * dt * dt / 4.0);
+      Q->block<3, 3>(kIdxP, kIdxV) = Na * (dt * dt / 2.0);
+      Q->block<3, 3>(kIdxV, kIdxP) = Na * (dt * dt / 2.0);
+      Q->block<3, 3>(kIdxV, kIdxV) = Na * dt;
+      Q->block<3, 3>(kIdxTheta, kIdxTheta) = Ng * dt;
+    }
     Q->block<3, 3>(kIdxBg, kIdxBg) = I * (s_.gyro_random_walk * s_.gyro_random_walk * dt);
     Q->block<3, 3>(kIdxBa, kIdxBa) = I * (s_.accel_random_walk * s_.accel_random_walk * dt);
   }
@@ -248,6 +262,9 @@ class InertialMotionModel final : public MotionModel {
   }
 
  private:
+  // Equal densities on every axis (the datasheet's alone) keep the
+  // isotropic form: bit for bit the filter without the in-situ noise.
+  static bool isotropic(const Vec3& d) { return d.x() == d.y() && d.y() == d.z(); }
   static Vec3 rate(const NominalState& x) { return x.has_imu ? Vec3(x.w - x.b_g) : Vec3::Zero(); }
   // The extrinsic camera(x) uses: the state's when calibrated, else the
   // configured one.

@@ -55,6 +55,13 @@ Mat6 poseCovarianceInWorldAxes(const PoseState& camera, const Mat12& camera_cova
   return J * camera_covariance.topLeftCorner<6, 6>() * J.transpose();
 }
 
+ImuNoiseDensity imuNoiseDensities(const NominalState& x, const EskfSettings& s) {
+  ImuNoiseDensity n;
+  n.gyro = x.imu_noise.gyro.cwiseMax(s.gyro_noise_density) * s.gyro_noise_inflation;
+  n.accel = x.imu_noise.accel.cwiseMax(s.accel_noise_density);
+  return n;
+}
+
 ImuSample imuSampleOnCameraClock(double imu_stamp, const Vec3& gyro, const Vec3& accel, const EskfSettings& s) {
   ImuSample out;
   out.stamp = imu_stamp - s.imu_time_offset;

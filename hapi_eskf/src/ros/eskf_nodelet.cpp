@@ -416,8 +416,10 @@ bool EskfNodelet::process(Work& w) {
   }
   stats_->recordFrame(rep, backend_->numLandmarks(), backend_->memoryBytes());
   PoseBlockState pose_block;
-  if (backend_->poseBlockState(&pose_block))
+  if (backend_->poseBlockState(&pose_block)) {
     stats_->recordCalibration(calibrationEstimate(calibrationLayout(params_.filter), pose_block));
+    stats_->recordImuNoise(pose_block.x.imu_noise);
+  }
   last_stamp_ = w.stamp;
   const ros_glue::CameraInMap T_map_cam =
       output_->publishFrame(w.stamp, w.frame_id, *backend_, rep.scene_moving);

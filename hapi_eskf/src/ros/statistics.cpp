@@ -34,6 +34,11 @@ void NodeletStatistics::recordCalibration(const CalibrationEstimate& c) {
   calibration_ = c;
 }
 
+void NodeletStatistics::recordImuNoise(const ImuNoiseDensity& n) {
+  std::lock_guard<std::mutex> lk(mu_);
+  imu_noise_ = n;
+}
+
 void NodeletStatistics::recordStop(const std::string& why) {
   std::lock_guard<std::mutex> lk(mu_);
   stopped_ = why;
@@ -69,8 +74,10 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   std::size_t memory;
   int landmarks;
   CalibrationEstimate calib;
+  ImuNoiseDensity imu_noise;
   {
     std::lock_guard<std::mutex> lk(mu_);
+    imu_noise = imu_noise_;
     s = stages_;
     stages_ = StageStats();
     backend = backend_name_;
@@ -170,6 +177,14 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     stat.add("frames_awaiting_imu", awaiting);
     stat.add("frames_vision_led", vision_led);
     stat.add("frames_scene_moving", scene_moving);
+    // The in-situ white-noise densities per IMU axis (0: not measured, or
+    // imu_noise_in_situ off); the prediction takes the larger of these and
+    // gyro_noise_density / accel_noise_density.
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), "%.3g %.3g %.3g", imu_noise.gyro.x(), imu_noise.gyro.y(), imu_noise.gyro.z());
+    stat.add("imu_gyro_noise_density_in_situ", std::string(buf));
+    std::snprintf(buf, sizeof(buf), "%.3g %.3g %.3g", imu_noise.accel.x(), imu_noise.accel.y(), imu_noise.accel.z());
+    stat.add("imu_accel_noise_density_in_situ", std::string(buf));
   }
   addCalibration(stat, calib);
 }

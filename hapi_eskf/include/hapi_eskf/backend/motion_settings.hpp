@@ -26,10 +26,6 @@ struct MotionSettings {
 #define HAPI_FIELD(type, name, default_value, range, unit, doc) type name = default_value;
 #include "hapi_eskf/backend/motion_settings.def"
 #undef HAPI_FIELD
-
-  // The gyro white noise the prediction assumes [rad/s/sqrt(Hz)]: the
-  // sensor's density times the inflation (motion_settings.def says why).
-  double gyroProcessNoiseDensity() const { return gyro_noise_density * gyro_noise_inflation; }
 };
 
 HAPI_SETTINGS_VISITOR(MotionSettings) {

@@ -23,6 +23,7 @@
 #include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/eskf/calibration_block.hpp"
 #include "hapi_eskf/eskf/frame_error_block.hpp"
+#include "hapi_eskf/eskf/imu_noise_estimator.hpp"
 #include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/eskf/scene_motion_monitor.hpp"
 #include "hapi_eskf/settings.hpp"
@@ -102,6 +103,10 @@ class Eskf final : public SlamBackend {
   PoseMat poseCovariance() const;
   // The online calibration as estimated (calibration_block.hpp).
   CalibrationEstimate calibration() const;
+  // The IMU's in-situ noise densities the prediction uses since the last
+  // frame (imu_noise_estimator.hpp; zero: not measured, or
+  // imu_noise_in_situ off).
+  const ImuNoiseDensity& imuNoise() const { return state_.imu_noise; }
   const NominalState& state() const { return state_; }
   const MotionModel& motionModel() const { return *model_; }
   bool awaitingAlignment() const { return awaiting_alignment_; }
@@ -160,6 +165,10 @@ class Eskf final : public SlamBackend {
   // the means), or follow a committed prediction step (gravity keeps its
   // first estimate).
   void restartFirstEstimates() { lin_ = state_; }
+  // The in-situ noise measured so far becomes the one the steps until the
+  // next frame assume (NominalState::imu_noise): set once per frame, so the
+  // IMU-rate copy steps as the filter does.
+  void refreshImuNoise();
   void advanceFirstEstimates();
   Status align();
   // The camera Jacobian of the pose block's first 6 columns as they are now
@@ -194,6 +203,7 @@ class Eskf final : public SlamBackend {
   // caller hands in every sample up to a frame's stamp before the frame.
   std::vector<ImuSample> held_imu_;
   bool velocity_measured_ = false;  // PoseBlockState::velocity_measured
+  ImuNoiseEstimator imu_noise_;  // every accepted sample, as read
   SceneMotionMonitor scene_motion_;
   Relocaliser relocaliser_;
   LandmarkBook book_;  // per slot, same order as the backend's slots

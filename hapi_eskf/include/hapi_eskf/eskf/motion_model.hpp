@@ -27,6 +27,12 @@
 
 namespace hapi_eskf {
 
+// White-noise densities per IMU axis (gyro [rad/s/sqrt(Hz)], accelerometer
+// [m/s^2/sqrt(Hz)]); zero: not measured.
+struct ImuNoiseDensity {
+  Vec3 gyro = Vec3::Zero(), accel = Vec3::Zero();
+};
+
 // The nominal state of the pose block. Which fields are state depends on the
 // model (the others are carried along unchanged):
 //  camera models: p, q = camera pose in the world; v, w = camera-frame linear
@@ -39,6 +45,9 @@ namespace hapi_eskf {
 //    R_bc, p_bc, t_d = the camera-IMU extrinsic (CameraExtrinsic's) and the
 //    time offset (imu_time_offset's meaning) as estimated: states when
 //    calibrated (CalibrationLayout), else the configured values, unused.
+// IMU models: imu_noise = the IMU's in-situ noise (imu_noise_estimator.hpp),
+// not a state: the filter sets it at each frame, so the steps between two
+// frames (the filter's and its IMU-rate copy's) assume the same noise.
 struct NominalState {
   Vec3 p = Vec3::Zero();
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
@@ -50,7 +59,13 @@ struct NominalState {
   Mat3 R_bc = Mat3::Identity();
   Vec3 p_bc = Vec3::Zero();
   double t_d = 0.0;  // [s]
+  ImuNoiseDensity imu_noise;
 };
+
+// The white-noise densities an IMU step assumes, per IMU axis: the larger of
+// the settings' (the datasheet's) and the in-situ x.imu_noise, the gyro's
+// times gyro_noise_inflation (docs/DESIGN.md "In-situ IMU noise").
+ImuNoiseDensity imuNoiseDensities(const NominalState& x, const EskfSettings& s);
 
 // Where the online calibration's rows sit in the pose block (-1: not
 // estimated). Only the inertial model of the ES-EKF calibrates, after its

@@ -64,6 +64,8 @@ class NodeletStatistics {
   void recordFilterError(const std::string& what);
   // The online calibration after a frame (calibration_block.hpp).
   void recordCalibration(const CalibrationEstimate& c);
+  // The IMU's in-situ noise densities the prediction uses (imu_noise_estimator.hpp).
+  void recordImuNoise(const ImuNoiseDensity& n);
   // The filter stopped for good (reported as ERROR from now on).
   void recordStop(const std::string& why);
   // A frame's correction reached the outputs `seconds` after its image was
@@ -96,6 +98,7 @@ class NodeletStatistics {
   std::size_t backend_memory_ = 0;
   int n_landmarks_ = 0;
   CalibrationEstimate calibration_;
+  ImuNoiseDensity imu_noise_;
   // Counter values and time of the previous report (for the rates);
   // diagnostics timer only.
   std::uint64_t prev_outputs_ = 0, prev_accepted_ = 0, prev_processed_ = 0, prev_rejected_ = 0, prev_dropped_ = 0,
