@@ -17,6 +17,7 @@ void ImagingFlowDiagnostics::published(const ImageFlowResult& r, double ms) {
     ++flows_ok_;
     ++win_ok_;
     win_inliers_ += r.inliers;
+    win_consistent_ += r.consistent;
   } else if (r.status == FlowStatus::kTooFewFeatures) {
     ++too_few_;
   } else {
@@ -55,6 +56,8 @@ void ImagingFlowDiagnostics::produce(diagnostic_updater::DiagnosticStatusWrapper
   stat.add("flows ok", flows_ok_);
   stat.add("flows too few features", too_few_);
   stat.add("inliers per valid flow (mean)", win_ok_ ? static_cast<double>(win_inliers_) / win_ok_ : 0.0);
+  stat.add("forward-backward consistent tracks per valid flow (mean)",
+           win_ok_ ? static_cast<double>(win_consistent_) / win_ok_ : 0.0);
   stat.add("time tracker [ms]", win_ms_ / n);
   stat.add("time tracker max [ms]", win_max_ms_);
   std::uint64_t restarts = 0, bad = 0;
@@ -66,7 +69,7 @@ void ImagingFlowDiagnostics::produce(diagnostic_updater::DiagnosticStatusWrapper
   for (const auto& kv : bad_) stat.add("rejected." + kv.first, kv.second);
   if (!last_bad_.empty()) stat.add("last bad image", last_bad_);
   window_start_ = now;
-  win_frames_ = win_ok_ = win_bad_ = win_inliers_ = 0;
+  win_frames_ = win_ok_ = win_bad_ = win_inliers_ = win_consistent_ = 0;
   win_ms_ = win_max_ms_ = 0;
 }
 

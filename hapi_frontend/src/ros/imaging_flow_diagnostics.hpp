@@ -37,7 +37,7 @@ class ImagingFlowDiagnostics {
   std::string last_bad_;
   // Window since the last produce().
   ros::WallTime window_start_ = ros::WallTime::now();
-  std::uint64_t win_frames_ = 0, win_ok_ = 0, win_bad_ = 0, win_inliers_ = 0;
+  std::uint64_t win_frames_ = 0, win_ok_ = 0, win_bad_ = 0, win_inliers_ = 0, win_consistent_ = 0;
   double win_ms_ = 0, win_max_ms_ = 0;
 };
 
