@@ -3,9 +3,11 @@
 // frames of a band-limited texture moving by a known, slowly varying affine
 // flow, with the accuracy of the same run (RMS error of the flow at the
 // pixel, mean NEES of the six parameters), for a few settings; and the grey
-// conversion of each encoding. Prints markdown tables.
+// conversion of each encoding. Prints markdown tables. Textures: "waves"
+// (test/flow_texture.hpp) or, when built with hapi_sim, "skin" (its
+// procedural skin, faint: +-7 grey levels of mottling).
 //
-//   hapi_frontend_flow_bench [--frames N] [--noise GREY_LEVELS]
+//   hapi_frontend_flow_bench [--frames N] [--noise GREY_LEVELS] [--texture waves|skin]
 #include "bench_clock.hpp"
 #include "flow_texture.hpp"
 
@@ -15,8 +17,12 @@
 #include <Eigen/Dense>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
+#ifdef HAPI_FLOW_BENCH_SKIN
+#include <hapi_sim/scene.hpp>
+#endif
 
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -38,11 +44,16 @@ struct Sequence {
   std::vector<Eigen::Matrix<double, 6, 1>> truth;  // flow from frame k-1 to k about the centre
 };
 
-// Frame k shows the texture under the accumulated affine motion; the flow
-// between frames varies smoothly (0.5-2 px/frame, gradients ~0.5 %/frame).
-Sequence render(int frames, double noise) {
-  const hapi_frontend_test::WaveTexture tex(5);
+// Grey level of the scene at a point [px of the reference frame].
+using Field = std::function<double(double, double)>;
+
+// Frame k shows the field under the accumulated affine motion (each pixel
+// the mean of 2 x 2 samples: the pixel's area, so fine texture does not
+// alias); the flow between frames varies smoothly (0.5-2 px/frame,
+// gradients ~0.5 %/frame).
+Sequence render(const Field& field, int frames, double noise) {
   std::mt19937 rng(9);
+  std::normal_distribution<double> grain(0.0, noise > 0 ? noise : 1.0);
   const double cu = 0.5 * (kW - 1), cv_ = 0.5 * (kH - 1);
   Sequence s;
   Eigen::Matrix2d m = Eigen::Matrix2d::Identity();
@@ -59,8 +70,20 @@ Sequence render(int frames, double noise) {
       m = g * m;
     }
     s.truth.push_back(f);
-    const double a[6] = {t(0), t(1), m(0, 0) - 1, m(0, 1), m(1, 0), m(1, 1) - 1};
-    s.frames.push_back(tex.renderAffine(kW, kH, cu, cv_, a, noise, &rng));
+    const Eigen::Matrix2d inv = m.inverse();
+    cv::Mat img(kH, kW, CV_8UC1);
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        double g = 0;
+        for (double oy : {-0.25, 0.25})
+          for (double ox : {-0.25, 0.25}) {
+            const Eigen::Vector2d src = Eigen::Vector2d(cu, cv_) + inv * (Eigen::Vector2d(x + ox - cu, y + oy - cv_) - t);
+            g += 0.25 * field(src.x(), src.y());
+          }
+        if (noise > 0) g += grain(rng);
+        img.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(std::lround(g));
+      }
+    s.frames.push_back(img);
   }
   return s;
 }
@@ -91,8 +114,8 @@ void runConfig(const char* name, const ImageFlowParams& p, const Sequence& s) {
               ok ? double(inliers) / ok : 0.0, ok ? std::sqrt(se / ok) : 0.0, ok ? nees / ok : 0.0);
 }
 
-void conversions() {
-  const cv::Mat grey = render(1, 0).frames[0];
+void conversions(const Field& field) {
+  const cv::Mat grey = render(field, 1, 0).frames[0];
   struct Case {
     const char* encoding;
     cv::Mat m;
@@ -128,18 +151,34 @@ void conversions() {
 int main(int argc, char** argv) {
   int frames = 200;
   double noise = 2.0;
+  std::string texture = "waves";
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--frames")) frames = std::max(2, std::atoi(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--noise")) noise = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--texture")) texture = argv[i + 1];
     else {
-      std::fprintf(stderr, "usage: hapi_frontend_flow_bench [--frames N] [--noise GREY_LEVELS]\n");
+      std::fprintf(stderr, "usage: hapi_frontend_flow_bench [--frames N] [--noise GREY_LEVELS] [--texture waves|skin]\n");
       return 2;
     }
   }
   cv::setNumThreads(1);
-  const Sequence s = render(frames, noise);
-  std::printf("ImageFlowTracker, %dx%d, %d frames, noise %.1f grey levels, pixel = image centre, one thread\n\n", kW,
-              kH, frames, noise);
+  Field field;
+  const hapi_frontend_test::WaveTexture waves(5);
+#ifdef HAPI_FLOW_BENCH_SKIN
+  // hapi_sim's skin (texel 0.2 mm) seen at 0.4 mm per pixel (the imaging
+  // camera at ~22 cm with f ~ 550 px).
+  hapi_sim::Texture skin;
+  skin.texels = hapi_sim::makeSkinTexture(2 * kW + 400, 2 * kH + 400, 0.2e-3);
+  if (texture == "skin") field = [&](double x, double y) { return skin.sample(2 * x + 200, 2 * y + 200); };
+#endif
+  if (texture == "waves") field = [&](double x, double y) { return waves.at(x, y); };
+  if (!field) {
+    std::fprintf(stderr, "texture '%s' unknown or not built (skin needs hapi_sim)\n", texture.c_str());
+    return 2;
+  }
+  const Sequence s = render(field, frames, noise);
+  std::printf("ImageFlowTracker, %dx%d, %d frames of the %s texture, noise %.1f grey levels, pixel = image centre, "
+              "one thread\n\n", kW, kH, frames, texture.c_str(), noise);
   std::printf("| settings | CPU ms median | p90 | max | wall ms median | valid | inliers | RMS error at pixel [px] | "
               "NEES (6 dof) |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   ImageFlowParams p;
@@ -156,6 +195,6 @@ int main(int argc, char** argv) {
   two.pyramid_levels = 2;
   two.lk_window = 15;
   runConfig("2 levels, window 15", two, s);
-  conversions();
+  conversions(field);
   return 0;
 }

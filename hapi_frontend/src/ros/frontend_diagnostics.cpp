@@ -83,13 +83,10 @@ void FrontendDiagnostics::produce(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("latency stamp to landmarks p50 [ms]", lat.p50 * 1e3);
   stat.add("latency stamp to landmarks p99 [ms]", lat.p99 * 1e3);
   stat.add("latency stamp to landmarks max [ms]", lat.max * 1e3);
-  uint64_t total_rejected = 0, total_dropped = 0;
-  for (const auto& kv : rejected_) total_rejected += kv.second;
-  for (const auto& kv : dropped_) total_dropped += kv.second;
-  stat.add("rejected total", total_rejected);
-  stat.add("dropped total", total_dropped);
-  for (const auto& kv : rejected_) stat.add("rejected." + kv.first, kv.second);
-  for (const auto& kv : dropped_) stat.add("dropped." + kv.first, kv.second);
+  stat.add("rejected total", counterTotal(rejected_));
+  stat.add("dropped total", counterTotal(dropped_));
+  addCounters(stat, "rejected.", rejected_);
+  addCounters(stat, "dropped.", dropped_);
   if (!last_reject_.empty()) stat.add("last rejection", last_reject_);
 
   window_start_ = now;

@@ -5,6 +5,7 @@
 // operators read from /diagnostics.
 #pragma once
 
+#include "diagnostic_counters.hpp"
 #include "hapi_frontend/stereo_pipeline.hpp"
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
@@ -38,7 +39,7 @@ class FrontendDiagnostics {
   hapi_nodelet_kit::LatencyHistogram latency_;  // its own lock
   mutable std::mutex mutex_;
   uint64_t processed_ = 0, time_resets_ = 0;
-  std::map<std::string, uint64_t> rejected_, dropped_;
+  ReasonCounters rejected_, dropped_;
   std::string last_reject_;
   // Window since the last produce().
   ros::WallTime window_start_ = ros::WallTime::now();

@@ -17,6 +17,7 @@ void ImagingFlowDiagnostics::published(const ImageFlowResult& r, double ms) {
     ++flows_ok_;
     ++win_ok_;
     win_inliers_ += r.inliers;
+    win_consistent_ += r.consistent;
   } else if (r.status == FlowStatus::kTooFewFeatures) {
     ++too_few_;
   } else {
@@ -55,18 +56,17 @@ void ImagingFlowDiagnostics::produce(diagnostic_updater::DiagnosticStatusWrapper
   stat.add("flows ok", flows_ok_);
   stat.add("flows too few features", too_few_);
   stat.add("inliers per valid flow (mean)", win_ok_ ? static_cast<double>(win_inliers_) / win_ok_ : 0.0);
+  stat.add("forward-backward consistent tracks per valid flow (mean)",
+           win_ok_ ? static_cast<double>(win_consistent_) / win_ok_ : 0.0);
   stat.add("time tracker [ms]", win_ms_ / n);
   stat.add("time tracker max [ms]", win_max_ms_);
-  std::uint64_t restarts = 0, bad = 0;
-  for (const auto& kv : restarts_) restarts += kv.second;
-  for (const auto& kv : bad_) bad += kv.second;
-  stat.add("restarts", restarts);
-  stat.add("bad images", bad);
-  for (const auto& kv : restarts_) stat.add("restart." + kv.first, kv.second);
-  for (const auto& kv : bad_) stat.add("rejected." + kv.first, kv.second);
+  stat.add("restarts", counterTotal(restarts_));
+  stat.add("bad images", counterTotal(bad_));
+  addCounters(stat, "restart.", restarts_);
+  addCounters(stat, "rejected.", bad_);
   if (!last_bad_.empty()) stat.add("last bad image", last_bad_);
   window_start_ = now;
-  win_frames_ = win_ok_ = win_bad_ = win_inliers_ = 0;
+  win_frames_ = win_ok_ = win_bad_ = win_inliers_ = win_consistent_ = 0;
   win_ms_ = win_max_ms_ = 0;
 }
 

@@ -3,6 +3,7 @@
 // reason, bad images by reason, tracker time and inliers.
 #pragma once
 
+#include "diagnostic_counters.hpp"
 #include "hapi_frontend/image_flow_tracker.hpp"
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
@@ -33,11 +34,11 @@ class ImagingFlowDiagnostics {
   }
   mutable std::mutex mutex_;
   std::uint64_t frames_ = 0, flows_ = 0, flows_ok_ = 0, too_few_ = 0;
-  std::map<std::string, std::uint64_t> restarts_, bad_;
+  ReasonCounters restarts_, bad_;
   std::string last_bad_;
   // Window since the last produce().
   ros::WallTime window_start_ = ros::WallTime::now();
-  std::uint64_t win_frames_ = 0, win_ok_ = 0, win_bad_ = 0, win_inliers_ = 0;
+  std::uint64_t win_frames_ = 0, win_ok_ = 0, win_bad_ = 0, win_inliers_ = 0, win_consistent_ = 0;
   double win_ms_ = 0, win_max_ms_ = 0;
 };
 

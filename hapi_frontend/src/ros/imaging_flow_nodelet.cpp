@@ -70,13 +70,16 @@ void ImagingFlowNodelet::onImage(const sensor_msgs::ImageConstPtr& image) {
   ImageFlowResult result;
   const auto start = std::chrono::steady_clock::now();
   InputError error;
-  try {
+  {
     std::lock_guard<std::mutex> lock(tracker_mutex_);
-    error = tracker_->process(grey, static_cast<std::int64_t>(image->header.stamp.toNSec()), &result);
-  } catch (const std::exception& ex) {
-    // Last line of defence: a bug in the core must not take the manager down.
-    tracker_->reset();
-    return badImage("internal_error", ex.what());
+    try {
+      error = tracker_->process(grey, static_cast<std::int64_t>(image->header.stamp.toNSec()), &result);
+    } catch (const std::exception& ex) {
+      // Last line of defence: a bug in the core must not take the manager
+      // down; the tracker starts afresh.
+      tracker_->reset();
+      error = InputError{"internal_error", ex.what()};
+    }
   }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (error) {
