@@ -319,12 +319,7 @@ def main(argv=None):
     if a.nees_seeds:
         report["anees"] = run_analysis.to_plain(anees(results))
         text += "\n\nANEES over %d seeds: %s" % (a.nees_seeds, yaml.safe_dump(report["anees"], sort_keys=True))
-    with open(os.path.join(a.out, "accuracy.yaml"), "w") as f:
-        yaml.safe_dump(run_analysis.to_plain(report), f, sort_keys=True)
-    if a.markdown:
-        with open(a.markdown, "w") as f:
-            f.write(text + "\n")
-    print(text)
+    run_analysis.write_report(os.path.join(a.out, "accuracy.yaml"), report, text, a.markdown)
     return 0
 
 

@@ -383,12 +383,8 @@ def main(argv=None):
     nees = {k: r["velocity_anees"] for k, r in results.items() if "velocity_anees" in r}
     if nees:
         text += "\n\nVelocity ANEES over %d seeds (2 dof): %s" % (a.seeds, yaml.safe_dump(nees, sort_keys=True))
-    with open(os.path.join(a.out, "motion_study.yaml"), "w") as f:
-        yaml.safe_dump(run_analysis.to_plain({"command": " ".join(sys.argv), "results": results}), f, sort_keys=True)
-    if a.markdown:
-        with open(a.markdown, "w") as f:
-            f.write(text + "\n")
-    print(text)
+    run_analysis.write_report(os.path.join(a.out, "motion_study.yaml"),
+                              {"command": " ".join(sys.argv), "results": results}, text, a.markdown)
     return 0
 
 

@@ -9,6 +9,7 @@ world, optionally cov (N, 6, 6) (odometry pose covariance) and twist (N, 6)
 true twist in the same camera frame (/ground_truth/odometry).
 """
 import numpy as np
+import yaml
 
 import evaluation as ev
 import scene_geometry
@@ -128,6 +129,17 @@ def analyse(est, gt, max_dt, interpolate=False, scene=None, map_points=None, gt_
             if name == "globe":  # the globe bags' historic field names (system tests, summary)
                 rep["map_rms_to_sphere_m"], rep["map_median_abs_to_sphere_m"] = rms, med
     return rep, series
+
+
+def write_report(path, report, text, markdown=None):
+    """An evaluation tool's results: the report as YAML at path, the table
+    text as markdown (when asked) and on stdout."""
+    with open(path, "w") as f:
+        yaml.safe_dump(to_plain(report), f, sort_keys=True)
+    if markdown:
+        with open(markdown, "w") as f:
+            f.write(text + "\n")
+    print(text)
 
 
 def to_plain(x):
