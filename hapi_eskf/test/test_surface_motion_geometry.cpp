@@ -85,7 +85,8 @@ TEST(SurfaceMotionGeometry, StatusesNoDepthAndRayMissesMap) {
 
 TEST(SurfaceMotionGeometry, RadiusWidensUntilEnoughLandmarks) {
   const ImagingCamera cam = testCamera();
-  SurfaceMotionSettings s;  // 40 px, doubling to 160 px
+  SurfaceMotionSettings s;
+  s.max_search_radius = 160;  // 40 px, doubling to 160 px
   std::vector<Vec3> ring;   // a ring about 100 px from the pixel (0.06 m at 0.3 m)
   for (int i = 0; i < 12; ++i) {
     const double a = 2 * M_PI * i / 12;
