@@ -232,8 +232,8 @@ class RunCollector:
                 res["odom_end_gap_s"] = float(np.max(gt["t"]) - np.max(est["t"]))
         if "map_points" not in res and map_points is not None and len(map_points) > 0:
             res["map_points"] = int(len(map_points))
-        res["diagnostics"] = {k: v for k, v in diag.items() if "hapi" in k.lower() or "eskf" in k.lower()
-                              or "frontend" in k.lower()}
+        ours = ("hapi", "eskf", "frontend", "surface motion", "imaging flow")
+        res["diagnostics"] = {k: v for k, v in diag.items() if any(w in k.lower() for w in ours)}
         latency = latency_summary(res["diagnostics"])
         if latency:
             res["latency"] = latency
@@ -243,10 +243,12 @@ class RunCollector:
 def latency_summary(diag):
     """Image stamp to output latencies over the run, from the nodelets' last
     /diagnostics (ROS clock: the bag's /clock in a replay): to the front
-    end's landmarks, and to the back end's odometry carrying the frame's
-    correction (front end, transport and back end together)."""
+    end's landmarks, to the back end's odometry carrying the frame's
+    correction (front end, transport and back end together), and from an
+    imaging frame to the first surface-motion output carrying its flow."""
     out = {}
-    keys = {"image_to_landmarks_ms": "latency stamp to landmarks %s [ms]", "image_to_odometry_ms": "latency_%s_ms"}
+    keys = {"image_to_landmarks_ms": "latency stamp to landmarks %s [ms]", "image_to_odometry_ms": "latency_%s_ms",
+            "imaging_to_surface_motion_ms": "flow_latency_%s_ms"}
     for values in diag.values():
         for name, pattern in keys.items():
             try:

@@ -231,7 +231,8 @@ def main():
         missing.append("map error (globe geometry unknown)")
 
     lat = rep.get("latency", {})
-    for key, label in (("image_to_landmarks_ms", "latency to landmarks "), ("image_to_odometry_ms", "latency to odometry  ")):
+    for key, label in (("image_to_landmarks_ms", "latency to landmarks "), ("image_to_odometry_ms", "latency to odometry  "),
+                       ("imaging_to_surface_motion_ms", "latency to skin motion")):
         if key in lat:
             v = lat[key]
             print(f"{label}: p50 {v['p50']:.1f} ms, p99 {v['p99']:.1f} ms, max {v['max']:.1f} ms "

@@ -170,6 +170,8 @@ void SurfaceMotionNodelet::odomCallback(const nav_msgs::OdometryConstPtr& msg) {
 
 void SurfaceMotionNodelet::publish(const surface_motion::SurfaceMotionOutput& out, const ros::Time& stamp) {
   stats_.countOutput(out.status);
+  const std::optional<double> flow_stamp = estimator_->lastFusedFlowStamp();
+  if (out.flow_fused && flow_stamp) stats_.flow_latency.add(ros::Time::now().toSec() - *flow_stamp);
   const std::string frame = imaging_frame_;
   const auto msg = boost::make_shared<hapi_msgs::SurfaceMotion>(ros_glue::toMessage(out, stamp, frame));
   motion_pub_.publish(msg);

@@ -62,6 +62,11 @@ void SurfaceMotionStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapp
       {"maps received", &maps_received},         {"maps rejected", &maps_rejected},
       {"camera_info rejected", &camera_info_rejected}, {"smoothed_motion requests", &smoothed_requests}};
   for (const auto& k : keys) stat.add(k.first, static_cast<unsigned long long>(k.second->load()));
+  const hapi_nodelet_kit::LatencyHistogram::Summary lat = flow_latency.summary();
+  stat.add("flow_latency_p50_ms", lat.p50 * 1e3);
+  stat.add("flow_latency_p99_ms", lat.p99 * 1e3);
+  stat.add("flow_latency_max_ms", lat.max * 1e3);
+  stat.add("flow_latency_samples", static_cast<unsigned long long>(lat.count));
 }
 
 }  // namespace ros_glue

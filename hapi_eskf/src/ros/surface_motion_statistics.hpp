@@ -5,6 +5,7 @@
 #include "hapi_eskf/surface_motion/surface_motion_estimator.hpp"
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <hapi_nodelet_kit/latency_histogram.hpp>
 
 #include <atomic>
 #include <cstdint>
@@ -20,6 +21,9 @@ struct SurfaceMotionStatistics {
       flows_wrong_frame{0}, flows_too_old{0}, flows_no_geometry{0}, flows_before_pose{0};
   Counter maps_received{0}, maps_rejected{0}, camera_info_rejected{0};
   Counter smoothed_requests{0};
+  // The imaging frame's stamp (mid-exposure) to the first output carrying
+  // its flow, over the run (ROS clock: the bag's in a replay).
+  hapi_nodelet_kit::LatencyHistogram flow_latency;  // its own lock
 
   // One output's status.
   void countOutput(surface_motion::MotionStatus s);

@@ -49,6 +49,7 @@ void SurfaceMotionEstimator::reset() {
   pending_.clear();
   pending_outcomes_.clear();
   last_flow_t_.reset();
+  last_fused_t_.reset();
   fused_since_output_ = false;
 }
 
@@ -197,6 +198,7 @@ FlowOutcome SurfaceMotionEstimator::fuse(const FlowMeasurement& f, std::string* 
   const UpdateResult u = filter_.update(k, f.displacement() - p.displacement, H, R);
   if (u.fused) {
     fused_since_output_ = true;
+    last_fused_t_ = f.t;
     return FlowOutcome::kFused;
   }
   return fail(FlowOutcome::kGated, "innovation NIS " + std::to_string(u.nis) + " beyond the gate");

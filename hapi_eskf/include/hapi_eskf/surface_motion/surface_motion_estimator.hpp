@@ -68,6 +68,9 @@ class SurfaceMotionEstimator {
   FlowOutcome addFlow(const FlowMeasurement& f, std::string* why = nullptr);
   // Outcomes of held flows decided by the last addOdometry.
   const std::vector<FlowOutcome>& pendingOutcomes() const { return pending_outcomes_; }
+  // Stamp of the newest flow fused (its later frame's), if any: the output
+  // that first carries it (flow_fused) measures the flow's latency.
+  std::optional<double> lastFusedFlowStamp() const { return last_fused_t_; }
 
   // The outputs at the stored odometry instants in [start, end], recomputed
   // with the smoothed e (rts_smoother.hpp).
@@ -106,7 +109,7 @@ class SurfaceMotionEstimator {
   std::deque<Context> contexts_;
   std::deque<FlowMeasurement> pending_;
   std::vector<FlowOutcome> pending_outcomes_;
-  std::optional<double> last_flow_t_;
+  std::optional<double> last_flow_t_, last_fused_t_;
   bool fused_since_output_ = false;
 };
 
