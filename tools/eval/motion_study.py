@@ -60,7 +60,8 @@ SCENARIOS = {
     "rest": ("skin", "rest", []),
 }
 FRONTEND_ARGS = {"skin": accuracy.FRONTEND_BY_SCENE["skin"], "patch": accuracy.FRONTEND_BY_SCENE["skin"]}
-METHODS = ("farneback", "dis", "lk", "ours", "ours_smoothed")
+BASELINES = ("farneback", "dis", "lk")
+METHODS = BASELINES + ("ours", "ours_smoothed")
 # The baselines' flow at the pixel: the median over this window [px] (half
 # size); LK's features come from within BASELINE_LK_RADIUS of the pixel.
 BASELINE_WINDOW = 15
@@ -71,10 +72,6 @@ BASELINE_LK_RADIUS = 60
 SETTLE_S = 1.0
 
 
-def run(cmd, log):
-    return accuracy.run(cmd, log)
-
-
 # ---------------------------------------------------------------- inputs
 
 def scenario_bag(name, seed, duration, data, log):
@@ -82,7 +79,7 @@ def scenario_bag(name, seed, duration, data, log):
     stem = f"motion_{name}_s{seed}_{duration:g}s"
     bag = os.path.join(data, stem + ".bag")
     if not os.path.exists(bag):
-        st, _ = run(["rosrun", "hapi_sim", "make_sim_bag", "--scene", scene, "--trajectory", traj, "--seed",
+        st, _ = accuracy.run(["rosrun", "hapi_sim", "make_sim_bag", "--scene", scene, "--trajectory", traj, "--seed",
                      str(seed), "--duration", str(duration), "--imaging-rate", "%g" % IMAGING_RATE,
                      "--output", bag + ".tmp"] + extra, log)
         if st != 0:
@@ -149,10 +146,6 @@ def baseline_flows(frames, pixel, method):
 
 # ---------------------------------------------------------------- our output
 
-def load_rows(path):
-    return accuracy.load_rows(path)
-
-
 def our_outputs(bag, stem, scene, info, data, out, log):
     """eskf_replay (inertial), imaging_flow_replay and surface_motion_replay on one bag:
     (causal, smoothed) rows of surface_motion_replay, on the camera clock."""
@@ -163,18 +156,18 @@ def our_outputs(bag, stem, scene, info, data, out, log):
     if st != 0:
         raise RuntimeError(f"eskf_replay failed for {stem} (see {log})")
     flow = prefix + "_flow.txt"
-    st, _ = run(["rosrun", "hapi_frontend", "imaging_flow_replay", bag, flow, "--topic", IMAGING_TOPIC], log)
+    st, _ = accuracy.run(["rosrun", "hapi_frontend", "imaging_flow_replay", bag, flow, "--topic", IMAGING_TOPIC], log)
     if st != 0:
         raise RuntimeError(f"imaging_flow_replay failed for {stem} (see {log})")
     K = info["K"]
     intrinsics = "%r %r %r %r %d %d %r" % (K[0, 0], K[1, 1], K[0, 2], K[1, 2], info["width"], info["height"],
                                           IMAGING_RATE)
-    st, _ = run(["rosrun", "hapi_eskf", "surface_motion_replay", "--odom", prefix + "_imu_rate.txt",
+    st, _ = accuracy.run(["rosrun", "hapi_eskf", "surface_motion_replay", "--odom", prefix + "_imu_rate.txt",
                  "--map", prefix + "_map.txt", "--flow", flow, "--intrinsics", intrinsics,
                  "--out", prefix + "_motion.txt", "--smoothed", prefix + "_motion_smoothed.txt"], log)
     if st != 0:
         raise RuntimeError(f"surface_motion_replay failed for {stem} (see {log})")
-    return load_rows(prefix + "_motion.txt"), load_rows(prefix + "_motion_smoothed.txt")
+    return accuracy.load_rows(prefix + "_motion.txt"), accuracy.load_rows(prefix + "_motion_smoothed.txt")
 
 
 # Columns of surface_motion_replay's output (SurfaceMotion's fields).
@@ -202,12 +195,12 @@ def scored_from(ours, offset):
     return ours[ok, COL_T][0] + offset + SETTLE_S if np.any(ok) else float("inf")
 
 
-def score_run(frames, info, truth, offset, ours, smoothed):
-    """Per method: lists of (est px, true px, est mm/s, true mm/s) per frame pair; plus ours at IMU rate."""
+def score_run(frames, info, truth, offset, flows, ours, smoothed):
+    """Per method: lists of (est px, true px, est mm/s, true mm/s) per frame pair. flows: the
+    baselines' image velocities per frame pair (baseline_flows)."""
     fx, fy = info["K"][0, 0], info["K"][1, 1]
     stamps = np.array([f[0] for f in frames]) + offset
     rows = {m: [] for m in METHODS}
-    flows = {m: baseline_flows(frames, truth["pixel"], m) for m in ("farneback", "dis", "lk")}
     start = scored_from(ours, offset)
     for k in range(1, len(frames)):
         if stamps[k - 1] < start:
@@ -333,7 +326,8 @@ def study(name, seeds, duration, data, out, log, plots_dir):
         frames, info, truth = read_imaging(bag)
         offset = accuracy.time_offset(bag)
         ours, smoothed = our_outputs(bag, stem, scene, info, data, out, log)
-        rows = score_run(frames, info, truth, offset, ours, smoothed)
+        flows = {m: baseline_flows(frames, truth["pixel"], m) for m in BASELINES}
+        rows = score_run(frames, info, truth, offset, flows, ours, smoothed)
         for m in METHODS:
             pooled[m] += rows[m]
         for key, r in (("ours_200hz", ours), ("ours_smoothed_200hz", smoothed)):
@@ -343,7 +337,7 @@ def study(name, seeds, duration, data, out, log, plots_dir):
                 if key == "ours_200hz" and len(est):
                     nees_runs.append(smm.velocity_nees(est, true, cov, n))
         if plots_dir and seed == seeds[0]:
-            plot(name, truth, offset, ours, frames, baseline_flows(frames, truth["pixel"], "farneback"), info,
+            plot(name, truth, offset, ours, frames, flows["farneback"], info,
                  os.path.join(plots_dir, f"motion_{name}.png"))
     figs = {m: figures(pooled[m]) for m in METHODS}
     for key, runs in instants.items():
