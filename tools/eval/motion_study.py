@@ -66,10 +66,6 @@ METHODS = BASELINES + ("ours", "ours_smoothed")
 # size); LK's features come from within BASELINE_LK_RADIUS of the pixel.
 BASELINE_WINDOW = 15
 BASELINE_LK_RADIUS = 60
-# Every method is scored from this long after our first output with status
-# OK: the first second has no map near the ray yet (no depth) or a depth
-# from a handful of landmarks.
-SETTLE_S = 1.0
 
 
 # ---------------------------------------------------------------- inputs
@@ -190,9 +186,9 @@ def per_frame_truth(truth, t0, t1):
 
 
 def scored_from(ours, offset):
-    """The first instant scored (every method alike): SETTLE_S after our first output with status OK."""
+    """The first instant scored (every method alike): smm.SETTLE_S after our first output with status OK."""
     ok = ours[:, COL_STATUS] == 0 if len(ours) else np.zeros(0, bool)
-    return ours[ok, COL_T][0] + offset + SETTLE_S if np.any(ok) else float("inf")
+    return ours[ok, COL_T][0] + offset + smm.SETTLE_S if np.any(ok) else float("inf")
 
 
 def score_run(frames, info, truth, offset, flows, ours, smoothed):

@@ -8,6 +8,10 @@ import numpy as np
 # Frames slower than this [mm/s] are left out of the median relative error
 # (a relative error of a near-zero speed says nothing).
 RELATIVE_MIN_SPEED_MM_S = 5.0
+# The surface motion is scored from this long after its first output with
+# status OK: the first second has no map near the ray yet (no depth) or a
+# depth from a handful of landmarks, and no flow fused.
+SETTLE_S = 1.0
 
 
 def interval_mean(t, values, t0, t1):

@@ -18,10 +18,6 @@ from sensor_msgs.msg import CameraInfo
 import surface_motion_metrics as smm
 import trajectory_metrics as tm
 
-# Outputs after this long from the first OK one are scored: the estimate
-# needs a depth and its first flows before it means anything.
-SETTLE_S = 1.0
-
 
 class SurfaceMotionCollector:
     def __init__(self):
@@ -91,7 +87,7 @@ class SurfaceMotionCollector:
         ok = status == 0
         if not np.any(ok):
             return rep, None
-        ok &= t >= t[ok][0] + SETTLE_S
+        ok &= t >= t[ok][0] + smm.SETTLE_S
         est_s = np.array([o[2] for o in out])
         cov = np.array([o[3] for o in out])
         if truth:
