@@ -30,6 +30,7 @@ struct ImageFlowParams {
   double outlier_sigmas = 4.0;     // residuals beyond this many sigmas are outliers
   double min_sigma = 0.005;        // [px] floor of the residual sigma behind the covariance
   double max_gap = 0.2;            // [s] a longer frame interval restarts (STATUS_FIRST_FRAME)
+  bool use_gpu = false;            // CUDA backend; the CPU one (with the reason) without a device or CUDA build
 
   // Hands every field with its declaration to `v`.
   void visit(ParamVisitor& v);

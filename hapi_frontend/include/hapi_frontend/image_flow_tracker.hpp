@@ -7,10 +7,14 @@
 // (affine_flow_fit.hpp): hapi_msgs/ImageFlow's six parameters [px/frame]
 // with their covariance. Only a window of the image about the pixel is ever
 // processed. Each frame's pyramid and corners are kept for the next frame.
+// The pyramid, corners and LK run in a backend (flow_track_stage.hpp): the
+// CPU (OpenCV) or, with use_gpu, CUDA, which falls back to the CPU with its
+// reason in backendStatus() when no device can be used.
 // ROS-free (OpenCV imgproc + video).
 #pragma once
 
 #include "hapi_frontend/affine_flow_fit.hpp"
+#include "hapi_frontend/flow_track_stage.hpp"
 #include "hapi_frontend/image_flow_params.hpp"
 #include "hapi_frontend/input_error.hpp"
 
@@ -18,6 +22,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -38,7 +43,8 @@ struct ImageFlowResult {
   std::uint32_t inliers = 0, tracked = 0;
   std::uint32_t consistent = 0;  // tracks that passed the forward-backward check (inliers <= consistent <= tracked)
   double sigma = 0;  // [px] residual sigma of the fit (kOk)
-  // kFirstFrame: why ("start", "stamp_not_increasing", "gap", "size_changed").
+  // kFirstFrame: why ("start", "stamp_not_increasing", "gap", "size_changed",
+  // "gpu_failed": the CUDA backend failed at run time, the CPU took over).
   std::string restart_reason;
 };
 
@@ -46,6 +52,7 @@ class ImageFlowTracker {
  public:
   // Throws std::invalid_argument with ImageFlowParams::validate()'s text.
   explicit ImageFlowTracker(const ImageFlowParams& params);
+  ~ImageFlowTracker();
 
   // One frame (CV_8UC1, any size >= 1 x 1) stamped stamp_ns (mid-exposure).
   // A stamp not after the previous one, or more than max_gap after it,
@@ -60,21 +67,24 @@ class ImageFlowTracker {
   void reset() { have_previous_ = false; }
 
   const ImageFlowParams& params() const { return params_; }
+  // True while the CUDA backend runs; backendStatus() says which backend
+  // runs and, where use_gpu is set but the CPU runs, why.
+  bool usingGpu() const { return stage_->onGpu(); }
+  const std::string& backendStatus() const { return backend_status_; }
 
  private:
   // Sets roi_ and pixel_ for frames of this size; false when the pixel is
   // outside such a frame.
   bool layoutFor(const cv::Size& size);
-  // This frame's window with its pyramid, and its corners, kept for the
-  // next frame.
-  void keepAsPrevious(const cv::Mat& window, std::vector<cv::Mat>&& pyramid, std::int64_t stamp_ns);
-  void track(const std::vector<cv::Mat>& pyramid, ImageFlowResult* out) const;
+  // The checked tracks' affine fit into *out.
+  void fit(const FlowTracks& tracks, ImageFlowResult* out) const;
   // Covariance factor for the overlap of the inliers' LK windows.
   double overlapInflation(const std::vector<Eigen::Vector2d>& from, const std::vector<bool>& inlier) const;
 
   ImageFlowParams params_;
   AffineFitSettings fit_;
-  cv::Size win_;
+  std::unique_ptr<FlowTrackStage> stage_;
+  std::string backend_status_;
   cv::Size size_;            // of the frames the layout is for
   cv::Rect roi_;             // the processed window of the image
   cv::Rect search_;          // the corner search square, in roi_ coordinates
@@ -82,8 +92,6 @@ class ImageFlowTracker {
   bool have_layout_ = false;
   bool have_previous_ = false;
   std::int64_t previous_stamp_ns_ = 0;
-  std::vector<cv::Mat> previous_pyramid_;
-  std::vector<cv::Point2f> previous_corners_;  // roi_ coordinates
 };
 
 }  // namespace hapi_frontend

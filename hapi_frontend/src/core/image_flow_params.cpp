@@ -34,6 +34,7 @@ void ImageFlowParams::visit(ParamVisitor& vis) {
                             .coreOnly();
   static const S kFloor = S::number("min_sigma", R::above(0), "px", "floor of the residual sigma of the covariance");
   static const S kGap = S::number("max_gap", R::above(0), "s", "longer frame intervals restart the tracker");
+  static const S kGpu = S::flag("use_gpu", "CUDA backend (the CPU one, with an error, without a CUDA device)");
   vis.visit(kU, u);
   vis.visit(kV, v);
   vis.visit(kRadius, search_radius);
@@ -50,6 +51,7 @@ void ImageFlowParams::visit(ParamVisitor& vis) {
   vis.visit(kOut, outlier_sigmas);
   vis.visit(kFloor, min_sigma);
   vis.visit(kGap, max_gap);
+  vis.visit(kGpu, use_gpu);
 }
 
 std::vector<std::string> ImageFlowParams::problems() const {

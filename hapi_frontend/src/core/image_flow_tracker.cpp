@@ -1,9 +1,8 @@
-// ImageFlowTracker (image_flow_tracker.hpp): restarts, the processed window,
-// corners, forward-backward LK and the affine fit.
+// ImageFlowTracker (image_flow_tracker.hpp): the backend, restarts, the
+// processed window, the checks of the tracks and the affine fit.
 #include "hapi_frontend/image_flow_tracker.hpp"
 
 #include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -25,8 +24,17 @@ ImageFlowTracker::ImageFlowTracker(const ImageFlowParams& params) : params_(para
   fit_.outlier_sigmas = params_.outlier_sigmas;
   fit_.min_sigma = params_.min_sigma;
   fit_.min_inliers = params_.min_inliers;
-  win_ = cv::Size(params_.lk_window, params_.lk_window);
+  if (params_.use_gpu) {
+    std::string why;
+    stage_ = makeCudaFlowStage(params_, &why);
+    backend_status_ = stage_ ? why : why + ", using the CPU";
+  } else {
+    backend_status_ = "CPU (use_gpu not set)";
+  }
+  if (!stage_) stage_ = makeCpuFlowStage(params_);
 }
+
+ImageFlowTracker::~ImageFlowTracker() = default;
 
 bool ImageFlowTracker::layoutFor(const cv::Size& size) {
   size_ = size;
@@ -48,44 +56,19 @@ bool ImageFlowTracker::layoutFor(const cv::Size& size) {
   return true;
 }
 
-void ImageFlowTracker::keepAsPrevious(const cv::Mat& window, std::vector<cv::Mat>&& pyramid, std::int64_t stamp_ns) {
-  previous_pyramid_ = std::move(pyramid);
-  previous_corners_.clear();
-  // goodFeaturesToTrack needs a block (3 px) inside the square.
-  if (search_.width >= 3 && search_.height >= 3) {
-    cv::goodFeaturesToTrack(window(search_), previous_corners_, params_.max_features, params_.feature_quality,
-                            params_.min_feature_distance);
-    for (cv::Point2f& p : previous_corners_) p += cv::Point2f(search_.tl());
-  }
-  previous_stamp_ns_ = stamp_ns;
-  have_previous_ = true;
-}
-
-void ImageFlowTracker::track(const std::vector<cv::Mat>& pyramid, ImageFlowResult* out) const {
-  out->tracked = static_cast<std::uint32_t>(previous_corners_.size());
+void ImageFlowTracker::fit(const FlowTracks& tracks, ImageFlowResult* out) const {
+  out->tracked = static_cast<std::uint32_t>(tracks.from.size());
   out->status = FlowStatus::kTooFewFeatures;
-  if (static_cast<int>(previous_corners_.size()) < params_.min_inliers) return;
-  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, params_.lk_iterations,
-                              params_.lk_epsilon);
-  const int max_level = params_.pyramid_levels - 1;
-  std::vector<cv::Point2f> ahead, back;
-  std::vector<std::uint8_t> ok_ahead, ok_back;
-  std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous_corners_, ahead, ok_ahead, err, win_, max_level,
-                           stop);
-  // Backwards from where each corner landed, started at its origin.
-  back = previous_corners_;
-  cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, ahead, back, ok_back, err, win_, max_level, stop,
-                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  if (static_cast<int>(tracks.from.size()) < params_.min_inliers) return;
   const cv::Rect2f inside(0.f, 0.f, static_cast<float>(roi_.width - 1), static_cast<float>(roi_.height - 1));
   std::vector<Eigen::Vector2d> from, moved;
   const Eigen::Vector2d offset(roi_.x, roi_.y);
-  for (std::size_t i = 0; i < previous_corners_.size(); ++i) {
-    if (!ok_ahead[i] || !ok_back[i] || !inside.contains(ahead[i])) continue;
-    const cv::Point2f fb = back[i] - previous_corners_[i];
+  for (std::size_t i = 0; i < tracks.from.size(); ++i) {
+    if (!tracks.ok[i] || !inside.contains(tracks.ahead[i])) continue;
+    const cv::Point2f fb = tracks.back[i] - tracks.from[i];
     if (!(std::hypot(fb.x, fb.y) <= params_.fb_threshold)) continue;
-    from.emplace_back(Eigen::Vector2d(previous_corners_[i].x, previous_corners_[i].y) + offset);
-    moved.emplace_back(ahead[i].x - previous_corners_[i].x, ahead[i].y - previous_corners_[i].y);
+    from.emplace_back(Eigen::Vector2d(tracks.from[i].x, tracks.from[i].y) + offset);
+    moved.emplace_back(tracks.ahead[i].x - tracks.from[i].x, tracks.ahead[i].y - tracks.from[i].y);
   }
   out->consistent = static_cast<std::uint32_t>(from.size());
   const AffineFlowFit fit = fitAffineFlow(from, moved, pixel_, fit_);
@@ -145,14 +128,21 @@ InputError ImageFlowTracker::process(const cv::Mat& grey, std::int64_t stamp_ns,
   else if (error) out->restart_reason = "size_changed";
   else if (have_previous_) out->restart_reason.clear();
 
-  const cv::Mat window = grey(roi_);
-  std::vector<cv::Mat> pyramid;
-  // Never reuse the input as level 0 (tryReuseInputImage = false): the
-  // pyramid outlives this call, the caller's buffer (a message) need not.
-  cv::buildOpticalFlowPyramid(window, pyramid, win_, params_.pyramid_levels - 1, true, cv::BORDER_REFLECT_101,
-                              cv::BORDER_CONSTANT, false);
-  if (out->restart_reason.empty()) track(pyramid, out);
-  keepAsPrevious(window, std::move(pyramid), stamp_ns);
+  const bool track = out->restart_reason.empty();
+  FlowTracks tracks;
+  try {
+    stage_->frame(grey(roi_), search_, track, &tracks);
+  } catch (const std::runtime_error& e) {
+    if (!stage_->onGpu()) throw;
+    // The device state is lost: the CPU takes over from this frame.
+    backend_status_ = std::string("CUDA failed at run time (") + e.what() + "), switched to the CPU";
+    stage_ = makeCpuFlowStage(params_);
+    out->restart_reason = "gpu_failed";
+    stage_->frame(grey(roi_), search_, false, &tracks);
+  }
+  if (out->restart_reason.empty()) fit(tracks, out);
+  previous_stamp_ns_ = stamp_ns;
+  have_previous_ = true;
   return error;
 }
 
