@@ -3,11 +3,16 @@
 // frames of a band-limited texture moving by a known, slowly varying affine
 // flow, with the accuracy of the same run (RMS error of the flow at the
 // pixel, mean NEES of the six parameters), for a few settings; and the grey
-// conversion of each encoding. Prints markdown tables. Textures: "waves"
+// conversion of each encoding. Then the backends (use_gpu) in one run on the
+// same frames: wall time per frame from the host image to the affine result
+// (for CUDA: upload, pyramid, corners, LK, download and the fit on the CPU),
+// p50/p99/max over a second pass (the first warms up), accuracy against the
+// truth and the largest CUDA - CPU difference; the CUDA row only with a
+// device. Prints markdown tables. Textures: "waves"
 // (test/flow_texture.hpp) or, when built with hapi_sim, "skin" (its
 // procedural skin, faint: +-7 grey levels of mottling).
 //
-//   hapi_frontend_flow_bench [--frames N] [--noise GREY_LEVELS] [--texture waves|skin]
+//   hapi_frontend_flow_bench [--frames N] [--noise GREY_LEVELS] [--texture waves|skin] [--backends-only 1]
 #include "bench_clock.hpp"
 #include "flow_texture.hpp"
 
@@ -21,6 +26,7 @@
 #include <hapi_sim/scene.hpp>
 #endif
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <cmath>
@@ -114,6 +120,70 @@ void runConfig(const char* name, const ImageFlowParams& p, const Sequence& s) {
               ok ? double(inliers) / ok : 0.0, ok ? std::sqrt(se / ok) : 0.0, ok ? nees / ok : 0.0);
 }
 
+double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
+}
+
+// One backend over the sequence, twice (the first pass warms up: CUDA
+// allocations, caches); the second pass's per-frame wall times and results.
+struct BackendRun {
+  std::vector<double> wall_ms;
+  std::vector<ImageFlowResult> results;
+};
+
+BackendRun runBackend(ImageFlowTracker& tracker, const Sequence& s) {
+  BackendRun run;
+  ImageFlowResult r;
+  for (int pass = 0; pass < 2; ++pass) {
+    tracker.reset();
+    run.wall_ms.clear();
+    run.results.clear();
+    for (std::size_t k = 0; k < s.frames.size(); ++k) {
+      const auto w0 = std::chrono::steady_clock::now();
+      tracker.process(s.frames[k], static_cast<std::int64_t>(k + 1) * 25'000'000, &r);
+      run.wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count());
+      run.results.push_back(r);
+    }
+  }
+  return run;
+}
+
+void backends(const ImageFlowParams& p, const Sequence& s) {
+  ImageFlowParams pg = p;
+  pg.use_gpu = true;
+  ImageFlowTracker cpu(p), gpu(pg);
+  std::printf("\nBackends, default settings, frame 640x480 -> affine result, wall time of process() over the second "
+              "of two passes; CUDA: %s\n\n", gpu.backendStatus().c_str());
+  std::printf("| backend | wall ms p50 | p99 | max | valid | RMS error at pixel [px] | max abs CUDA - CPU: flow [px] "
+              "| gradient [1/frame] |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  const BackendRun rc = runBackend(cpu, s);
+  BackendRun rg;
+  if (gpu.usingGpu()) rg = runBackend(gpu, s);
+  for (const BackendRun* run : {&rc, &rg}) {
+    if (run->results.empty()) continue;
+    double se = 0, dflow = 0, dgrad = 0;
+    int ok = 0;
+    for (std::size_t k = 0; k < run->results.size(); ++k) {
+      const ImageFlowResult& r = run->results[k];
+      if (r.status != FlowStatus::kOk) continue;
+      ++ok;
+      se += (r.affine - s.truth[k]).head<2>().squaredNorm();
+      if (run == &rg && rc.results[k].status == FlowStatus::kOk) {
+        const Eigen::Matrix<double, 6, 1> d = (r.affine - rc.results[k].affine).cwiseAbs();
+        dflow = std::max(dflow, d.head<2>().maxCoeff());
+        dgrad = std::max(dgrad, d.tail<4>().maxCoeff());
+      }
+    }
+    const bool is_gpu = run == &rg;
+    std::printf("| %s | %.3f | %.3f | %.3f | %d/%zu | %.4f | %s | %s |\n", is_gpu ? "CUDA" : "CPU (1 thread)",
+                percentile(run->wall_ms, 0.5), percentile(run->wall_ms, 0.99),
+                *std::max_element(run->wall_ms.begin(), run->wall_ms.end()), ok, s.frames.size() - 1,
+                ok ? std::sqrt(se / ok) : 0.0, is_gpu ? std::to_string(dflow).c_str() : "-",
+                is_gpu ? std::to_string(dgrad).c_str() : "-");
+  }
+}
+
 void conversions(const Field& field) {
   const cv::Mat grey = render(field, 1, 0).frames[0];
   struct Case {
@@ -152,12 +222,15 @@ int main(int argc, char** argv) {
   int frames = 200;
   double noise = 2.0;
   std::string texture = "waves";
+  bool backends_only = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--frames")) frames = std::max(2, std::atoi(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--noise")) noise = std::atof(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--texture")) texture = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--backends-only")) backends_only = std::atoi(argv[i + 1]) != 0;
     else {
-      std::fprintf(stderr, "usage: hapi_frontend_flow_bench [--frames N] [--noise GREY_LEVELS] [--texture waves|skin]\n");
+      std::fprintf(stderr, "usage: hapi_frontend_flow_bench [--frames N] [--noise GREY_LEVELS] [--texture waves|skin] "
+                           "[--backends-only 1]\n");
       return 2;
     }
   }
@@ -177,6 +250,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   const Sequence s = render(field, frames, noise);
+  if (backends_only) {
+    backends(ImageFlowParams(), s);
+    return 0;
+  }
   std::printf("ImageFlowTracker, %dx%d, %d frames of the %s texture, noise %.1f grey levels, pixel = image centre, "
               "one thread\n\n", kW, kH, frames, texture.c_str(), noise);
   std::printf("| settings | CPU ms median | p90 | max | wall ms median | valid | inliers | RMS error at pixel [px] | "
@@ -196,5 +273,6 @@ int main(int argc, char** argv) {
   two.lk_window = 15;
   runConfig("2 levels, window 15", two, s);
   conversions(field);
+  backends(p, s);
   return 0;
 }

@@ -42,14 +42,15 @@ fi
 # (tools/device/latency_gpu_run.sh, tools/device/opencv/OpenCVConfig.cmake):
 #   prepare.sh opencv
 # packs Debian's OpenCV headers and the modules core, imgproc, features2d,
-# calib3d and flann with the libraries they load, except the C and C++
+# calib3d, flann and video (the image flow's LK; it loads dnn) with the
+# libraries they load, except the C and C++
 # runtimes, which the machine's own compiler brings, into
 # .device/opencv.tar.xz. Carry that one file in the call that uses it.
 if [ "${1:-}" = opencv ]; then
   STAGE="$(mktemp -d)"
   mkdir -p "$STAGE/opencv/include" "$STAGE/opencv/lib"
   cp -r /usr/include/opencv4 "$STAGE/opencv/include/"
-  for m in core imgproc features2d calib3d flann; do
+  for m in core imgproc features2d calib3d flann video dnn; do
     lib=/usr/lib/x86_64-linux-gnu/libopencv_$m.so.406
     cp -L "$lib" "$STAGE/opencv/lib/"
     ldd "$lib" | awk '$3 ~ /^\// {print $1, $3}' |

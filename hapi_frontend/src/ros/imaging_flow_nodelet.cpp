@@ -28,6 +28,11 @@ void ImagingFlowNodelet::onInit() {
     return startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(), "invalid parameters",
                            reader.errors());
   tracker_ = std::make_unique<ImageFlowTracker>(params_.flow);  // parameters validated above
+  // ~use_gpu without a usable CUDA device (or in a build without CUDA): the
+  // CPU tracker runs, and the user is told why once, as an error.
+  if (params_.flow.use_gpu && !tracker_->usingGpu())
+    NODELET_ERROR("imaging flow: ~use_gpu is set but the CUDA tracker cannot run: %s",
+                  tracker_->backendStatus().c_str());
   pub_ = pnh.advertise<hapi_msgs::ImageFlow>("flow", 20);
   it_ = std::make_unique<image_transport::ImageTransport>(nh);
   const image_transport::TransportHints hints(params_.image_transport, ros::TransportHints(), pnh);
@@ -41,9 +46,10 @@ void ImagingFlowNodelet::onInit() {
   }
   startDiagnostics();
   NODELET_INFO("imaging flow: pixel (%g, %g) (-1: image centre), search radius %d px, %d features, LK %d px x %d "
-               "levels; %s (transport '%s') -> %s",
+               "levels, backend %s; %s (transport '%s') -> %s",
                params_.flow.u, params_.flow.v, params_.flow.search_radius, params_.flow.max_features,
-               params_.flow.lk_window, params_.flow.pyramid_levels, sub_.getTopic().c_str(),
+               params_.flow.lk_window, params_.flow.pyramid_levels, tracker_->backendStatus().c_str(),
+               sub_.getTopic().c_str(),
                params_.image_transport.c_str(), pub_.getTopic().c_str());
 }
 
@@ -80,6 +86,9 @@ void ImagingFlowNodelet::onImage(const sensor_msgs::ImageConstPtr& image) {
       tracker_->reset();
       error = InputError{"internal_error", ex.what()};
     }
+    // The CUDA tracker failed at run time; the CPU one took over (restart).
+    if (result.restart_reason == "gpu_failed")
+      NODELET_ERROR("imaging flow: %s", tracker_->backendStatus().c_str());
   }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (error) {

@@ -1,12 +1,12 @@
 # find_package(OpenCV) on the GPU machine, which has no OpenCV: Debian's
 # headers and the modules the ROS-free cores use (core, imgproc, features2d,
-# calib3d, flann), with the libraries they load, packed by
+# calib3d, flann, video with its dependency dnn), with the libraries they load, packed by
 # `tools/device/prepare.sh opencv` and unpacked by the device scripts into
 # HAPI_DEVICE_OPENCV (include/opencv4, lib). Image codecs (imgcodecs) are not
 # carried: they pull in ~130 libraries (GDAL, codecs); the cores read no
 # image files there (hapi_sim renders the generated globe texture).
 # Pass -DOpenCV_DIR=<repo>/tools/device/opencv -DHAPI_DEVICE_OPENCV=<dir>.
-set(_hapi_cv_modules core imgproc features2d calib3d flann)
+set(_hapi_cv_modules core imgproc features2d calib3d flann video dnn)
 if(NOT HAPI_DEVICE_OPENCV OR NOT EXISTS "${HAPI_DEVICE_OPENCV}/include/opencv4/opencv2/core.hpp")
   set(OpenCV_FOUND FALSE)
   if(OpenCV_FIND_REQUIRED)
