@@ -160,7 +160,7 @@ void backends(const ImageFlowParams& p, const Sequence& s) {
   const BackendRun rc = runBackend(cpu, s);
   BackendRun rg;
   if (gpu.usingGpu()) rg = runBackend(gpu, s);
-  for (const BackendRun* run : {&rc, &rg}) {
+  for (const BackendRun* run : {&rc, static_cast<const BackendRun*>(&rg)}) {
     if (run->results.empty()) continue;
     double se = 0, dflow = 0, dgrad = 0;
     int ok = 0;

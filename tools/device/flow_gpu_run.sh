@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # One device call for the image flow's CUDA tracker (docs/BENCHMARKS.md
-# "Image flow"): builds hapi_sim and hapi_frontend without ROS with the
-# carried OpenCV (prepare.sh opencv, which packs the video module), runs the
-# image-flow gtests (the host check of the CUDA arithmetic against OpenCV,
-# the CPU tracker's criteria) and the GPU gtests (ORB, matcher, and CUDA vs
-# CPU image flow), then hapi_frontend_flow_bench's backend table (CPU and
+# "Image flow"): builds hapi_dataset, hapi_sim and hapi_frontend without ROS
+# with the carried OpenCV (prepare.sh opencv, which packs the video module),
+# runs the image-flow gtests (the host check of the CUDA arithmetic against
+# OpenCV, the CPU tracker's criteria) and the GPU gtests (ORB, matcher, and
+# CUDA vs CPU image flow), then hapi_frontend_flow_bench's backend table (CPU and
 # CUDA in one process, same frames) on the waves and skin textures. Logs and
 # tables come back in $OUT (or ./device-out).
 #   tools/device/flow_gpu_run.sh [FRAMES]
@@ -28,7 +28,7 @@ export LD_LIBRARY_PATH="$CV/opencv/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
   git -C "$REPO" log -1 --format='commit %h %cs' 2>/dev/null || true
 } | tee "$OUT/device.txt"
 HAPI_DEVICE_CMAKE_ARGS="-DOpenCV_DIR=$REPO/tools/device/opencv -DHAPI_DEVICE_OPENCV=$CV/opencv" \
-  bash "$REPO/tools/device/build_core.sh" "$B" "hapi_sim;hapi_frontend" \
+  bash "$REPO/tools/device/build_core.sh" "$B" "hapi_dataset;hapi_sim;hapi_frontend" \
   >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
 echo "build ok"
 BENCH="$B/hapi_frontend/bench/hapi_frontend_flow_bench"
