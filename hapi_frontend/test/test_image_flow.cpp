@@ -255,5 +255,29 @@ TEST(ImageFlowTracker, CovarianceMatchesTheErrorOverNoisyTrials) {
   std::printf("NEES over %d noisy trials: flow at the pixel %.2f (2 dof), all six %.2f (6 dof)\n", ok, nees2, nees6);
 }
 
+// use_gpu: the CUDA backend where a device is usable (its agreement with the
+// CPU: hapi_frontend_flow_gpu_test); elsewhere the CPU backend, saying why,
+// with the CPU tracker's results exactly.
+TEST(ImageFlowTracker, UseGpuWithoutADeviceRunsTheCpuAndSaysWhy) {
+  ImageFlowParams p;
+  p.use_gpu = true;
+  ImageFlowTracker gpu(p);
+  if (gpu.usingGpu()) GTEST_SKIP() << "a CUDA device is usable: " << gpu.backendStatus();
+  EXPECT_NE(gpu.backendStatus().find("using the CPU"), std::string::npos) << gpu.backendStatus();
+  ImageFlowTracker cpu{ImageFlowParams()};
+  EXPECT_FALSE(cpu.usingGpu());
+  const WaveTexture tex(23);
+  const double zero[6] = {0, 0, 0, 0, 0, 0}, a[6] = {1.1, -0.6, 0.004, 0, 0, -0.003};
+  ImageFlowResult rc, rg;
+  for (const double* step : {zero, a}) {
+    const cv::Mat f = tex.renderAffine(kW, kH, kCu, kCv, step);
+    cpu.process(f, 1'000'000'000 + (step == a) * kFrameNs, &rc);
+    gpu.process(f, 1'000'000'000 + (step == a) * kFrameNs, &rg);
+  }
+  ASSERT_EQ(rg.status, FlowStatus::kOk);
+  EXPECT_EQ(rg.affine, rc.affine);
+  EXPECT_EQ(rg.covariance, rc.covariance);
+}
+
 }  // namespace
 }  // namespace hapi_frontend

@@ -13,7 +13,7 @@ set -uo pipefail
 # HAPI_REQUIRE_GPU=1, REPO, OUT
 # shellcheck source=device_env.sh
 source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
-FRAMES="${1:-120}"
+FRAMES="${1:-100}"
 B="$REPO/build-device-flow"
 CV="$(mktemp -d)"
 tar -C "$CV" -xJf "$REPO/.device/opencv.tar.xz"
