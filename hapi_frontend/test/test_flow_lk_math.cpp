@@ -136,6 +136,8 @@ TEST(FlowLkMath, TrackPointIsCalcOpticalFlowPyrLKs) {
     from.emplace_back(-30.f, 20.f);  // outside the window: lost by both
     const HostPyramid p0 = build(w0, 21, 3), p1 = build(w1, 21, 3);
     flow_lk::LkSettings s;
+    s.window = 21;
+    s.iterations = 30;
     s.max_level = static_cast<int>(p0.levels.size()) - 1;
     s.epsilon_sq = 0.001 * 0.001;
     std::vector<cv::Mat> c0, c1;

@@ -20,14 +20,16 @@
 
 namespace hapi_frontend {
 
+// The tracker's settings this stage uses (ImageFlowParams, where their
+// defaults and ranges are declared; copied by flow_track_stage_cuda.cpp).
 struct FlowLkCudaSettings {
-  int levels = 3;           // LK pyramid levels (fewer where the window is small)
-  int window = 21;          // [px] LK window side, odd, <= flow_lk::kMaxWindow
-  int iterations = 30;      // per level
-  double epsilon = 0.001;   // [px] LK stops when the update is smaller
-  int max_features = 120;
-  double quality = 0.005;   // weakest corner kept, relative to the strongest
-  double min_distance = 5;  // [px]
+  int levels = 0;           // LK pyramid levels (fewer where the window is small)
+  int window = 0;           // [px] LK window side, odd, <= flow_lk::kMaxWindow
+  int iterations = 0;       // per level
+  double epsilon = 0;       // [px] LK stops when the update is smaller
+  int max_features = 0;
+  double quality = 0;       // weakest corner kept, relative to the strongest
+  double min_distance = 0;  // [px]
 };
 
 // The previous frame's corners and where they went (window coordinates).

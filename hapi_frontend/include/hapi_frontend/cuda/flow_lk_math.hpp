@@ -37,11 +37,12 @@ struct Level {
   int width = 0, height = 0;
 };
 
+// (Set from ImageFlowParams by FlowLkCuda.)
 struct LkSettings {
-  int window = 21;       // odd
-  int max_level = 2;     // levels - 1 (already limited to the pyramid's)
-  int iterations = 30;
-  double epsilon_sq = 1e-6;  // [px^2] the update below which LK stops
+  int window = 0;         // odd
+  int max_level = 0;      // levels - 1 (already limited to the pyramid's)
+  int iterations = 0;     // calcOpticalFlowPyrLK's cap of 100 applied
+  double epsilon_sq = 0;  // [px^2] the update below which LK stops
 };
 
 // OpenCV's borderInterpolate for BORDER_REFLECT_101 (any distance).
