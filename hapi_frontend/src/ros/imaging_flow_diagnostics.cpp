@@ -60,6 +60,7 @@ void ImagingFlowDiagnostics::produce(diagnostic_updater::DiagnosticStatusWrapper
            win_ok_ ? static_cast<double>(win_consistent_) / win_ok_ : 0.0);
   stat.add("time tracker [ms]", win_ms_ / n);
   stat.add("time tracker max [ms]", win_max_ms_);
+  stat.add("backend", backend_);
   stat.add("restarts", counterTotal(restarts_));
   stat.add("bad images", counterTotal(bad_));
   addCounters(stat, "restart.", restarts_);

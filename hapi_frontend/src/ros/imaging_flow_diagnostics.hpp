@@ -1,6 +1,7 @@
 // Thread-safe counters of ImagingFlowNodelet, published as one
 // diagnostic_updater task: frames, flows published by status, restarts by
-// reason, bad images by reason, tracker time and inliers.
+// reason, bad images by reason, tracker time and inliers, the tracker's
+// backend (CPU or CUDA, and why not CUDA where it was asked for).
 #pragma once
 
 #include "diagnostic_counters.hpp"
@@ -22,6 +23,10 @@ class ImagingFlowDiagnostics {
   // A flow message left (any status), `ms` the tracker's time on the frame.
   void published(const ImageFlowResult& result, double ms);
   void badImage(const std::string& reason, const std::string& detail);
+  void backend(const std::string& status) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    backend_ = status;
+  }
 
   void produce(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
@@ -36,6 +41,7 @@ class ImagingFlowDiagnostics {
   std::uint64_t frames_ = 0, flows_ = 0, flows_ok_ = 0, too_few_ = 0;
   ReasonCounters restarts_, bad_;
   std::string last_bad_;
+  std::string backend_;
   // Window since the last produce().
   ros::WallTime window_start_ = ros::WallTime::now();
   std::uint64_t win_frames_ = 0, win_ok_ = 0, win_bad_ = 0, win_inliers_ = 0, win_consistent_ = 0;

@@ -30,6 +30,7 @@ void ImagingFlowNodelet::onInit() {
   tracker_ = std::make_unique<ImageFlowTracker>(params_.flow);  // parameters validated above
   // ~use_gpu without a usable CUDA device (or in a build without CUDA): the
   // CPU tracker runs, and the user is told why once, as an error.
+  diag_.backend(tracker_->backendStatus());
   if (params_.flow.use_gpu && !tracker_->usingGpu())
     NODELET_ERROR("imaging flow: ~use_gpu is set but the CUDA tracker cannot run: %s",
                   tracker_->backendStatus().c_str());
@@ -87,8 +88,10 @@ void ImagingFlowNodelet::onImage(const sensor_msgs::ImageConstPtr& image) {
       error = InputError{"internal_error", ex.what()};
     }
     // The CUDA tracker failed at run time; the CPU one took over (restart).
-    if (result.restart_reason == "gpu_failed")
+    if (result.restart_reason == "gpu_failed") {
       NODELET_ERROR("imaging flow: %s", tracker_->backendStatus().c_str());
+      diag_.backend(tracker_->backendStatus());
+    }
   }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (error) {
