@@ -4,6 +4,7 @@
 // float rounding, the chosen corners, and pyramidal LK point by point. The
 // kernels only apply these functions to every pixel or point
 // (flow_lk_kernels.cu); hapi_frontend_flow_gpu_test checks them on a device.
+#include "flow_lk_reference.hpp"
 #include "flow_texture.hpp"
 
 #include "hapi_frontend/cuda/flow_lk_math.hpp"
@@ -21,36 +22,11 @@
 namespace hapi_frontend {
 namespace {
 
-using flow_lk::Level;
+namespace ref = flow_lk_reference;
 
-// A window and its pyramid as the CUDA stage builds it, on the host.
-struct HostPyramid {
-  std::vector<cv::Mat> img, deriv;  // CV_8UC1, CV_16SC2 (continuous)
-  std::vector<Level> levels;
-};
-
-HostPyramid build(const cv::Mat& window, int window_side, int levels) {
-  HostPyramid p;
-  const int n = flow_lk::pyramidLevels(window.cols, window.rows, window_side, levels);
-  p.img.push_back(window.clone());
-  for (int l = 1; l < n; ++l) {
-    const cv::Mat& b = p.img.back();
-    cv::Mat d((b.rows + 1) / 2, (b.cols + 1) / 2, CV_8UC1);
-    for (int y = 0; y < d.rows; ++y)
-      for (int x = 0; x < d.cols; ++x) d.at<std::uint8_t>(y, x) = flow_lk::pyrDownAt(b.data, b.cols, b.rows, x, y);
-    p.img.push_back(d);
-  }
-  for (const cv::Mat& m : p.img) {
-    cv::Mat d(m.rows, m.cols, CV_16SC2);
-    for (int y = 0; y < m.rows; ++y)
-      for (int x = 0; x < m.cols; ++x) {
-        std::int16_t* o = d.ptr<std::int16_t>(y) + 2 * x;
-        flow_lk::scharrAt(m.data, m.cols, m.rows, x, y, o, o + 1);
-      }
-    p.deriv.push_back(d);
-    p.levels.push_back(Level{m.data, d.ptr<std::int16_t>(), m.cols, m.rows});
-  }
-  return p;
+// A continuous window's pyramid as the CUDA stage builds it, on the host.
+ref::Pyramid build(const cv::Mat& window, int window_side, int levels) {
+  return ref::build(window.data, window.cols, window.rows, window_side, levels);
 }
 
 cv::Mat texturedWindow(unsigned seed, int w, int h, const double a[6]) {
@@ -68,37 +44,27 @@ TEST(FlowLkMath, PyramidAndDerivativesEqualOpenCVsBitForBit) {
     std::vector<cv::Mat> cv_pyr;
     const int top = cv::buildOpticalFlowPyramid(win, cv_pyr, cv::Size(21, 21), 2, true, cv::BORDER_REFLECT_101,
                                                 cv::BORDER_CONSTANT, false);
-    const HostPyramid ours = build(win, 21, 3);
+    const ref::Pyramid ours = build(win, 21, 3);
     ASSERT_EQ(static_cast<int>(ours.levels.size()), top + 1) << sz[0] << "x" << sz[1];
     for (int l = 0; l <= top; ++l) {
-      EXPECT_EQ(cv::norm(ours.img[l], cv_pyr[2 * l], cv::NORM_INF), 0.0) << "level " << l;
-      EXPECT_EQ(cv::norm(ours.deriv[l].reshape(1), cv_pyr[2 * l + 1].reshape(1), cv::NORM_INF), 0.0)
+      const flow_lk::Level& L = ours.levels[l];
+      const cv::Mat img(L.height, L.width, CV_8UC1, const_cast<std::uint8_t*>(L.img));
+      const cv::Mat deriv(L.height, L.width, CV_16SC2, const_cast<std::int16_t*>(L.deriv));
+      EXPECT_EQ(cv::norm(img, cv_pyr[2 * l], cv::NORM_INF), 0.0) << "level " << l;
+      EXPECT_EQ(cv::norm(deriv.reshape(1), cv_pyr[2 * l + 1].reshape(1), cv::NORM_INF), 0.0)
           << "derivatives of level " << l;
     }
   }
 }
 
-// goodFeaturesToTrack on the square of `win` through flow_lk_math.
+// goodFeaturesToTrack on the square of `win` through flow_lk_math, in
+// square coordinates.
 std::vector<cv::Point2f> ourCorners(const cv::Mat& win, const cv::Rect& sq, int max_features, double quality,
-                                    double min_distance, std::vector<float>* eig_out = nullptr) {
-  std::vector<float> eig(static_cast<std::size_t>(sq.area()));
-  float max = 0;
-  for (int y = 0; y < sq.height; ++y)
-    for (int x = 0; x < sq.width; ++x) {
-      eig[y * sq.width + x] = flow_lk::minEigenAt(win.data, win.cols, win.rows, sq.x, sq.y, sq.width, sq.height, x, y);
-      max = std::max(max, eig[y * sq.width + x]);
-    }
-  const float threshold = static_cast<float>(static_cast<double>(max) * quality);
-  std::vector<flow_lk::Candidate> cand;
-  for (int y = 0; y < sq.height; ++y)
-    for (int x = 0; x < sq.width; ++x)
-      if (flow_lk::isCandidate(eig.data(), sq.width, sq.height, x, y, threshold))
-        cand.push_back(flow_lk::Candidate{eig[y * sq.width + x], y * sq.width + x});
-  std::vector<float> xy;
-  flow_lk::selectCorners(&cand, sq.width, max_features, min_distance, &xy);
+                                    double min_distance) {
+  const std::vector<float> xy = ref::corners(win.data, win.cols, win.rows, sq.x, sq.y, sq.width, sq.height,
+                                             max_features, quality, min_distance);
   std::vector<cv::Point2f> out;
-  for (std::size_t k = 0; k < xy.size(); k += 2) out.emplace_back(xy[k], xy[k + 1]);
-  if (eig_out) *eig_out = eig;
+  for (std::size_t k = 0; k < xy.size(); k += 2) out.emplace_back(xy[k] - sq.x, xy[k + 1] - sq.y);
   return out;
 }
 
@@ -106,8 +72,8 @@ TEST(FlowLkMath, CornersAreGoodFeaturesToTracks) {
   for (unsigned seed : {3u, 8u, 21u}) {
     const cv::Mat win = texturedWindow(seed, 265, 265, kStill);
     const cv::Rect sq(84, 84, 97, 97);
-    std::vector<float> eig;
-    const std::vector<cv::Point2f> ours = ourCorners(win, sq, 120, 0.005, 5, &eig);
+    const std::vector<cv::Point2f> ours = ourCorners(win, sq, 120, 0.005, 5);
+    const std::vector<float> eig = ref::eigenMap(win.data, win.cols, win.rows, sq.x, sq.y, sq.width, sq.height);
     cv::Mat cv_eig;
     cv::cornerMinEigenVal(win(sq), cv_eig, 3, 3);
     double max_eig = 0;
@@ -134,7 +100,7 @@ TEST(FlowLkMath, TrackPointIsCalcOpticalFlowPyrLKs) {
     std::vector<cv::Point2f> from = ourCorners(w0, sq, 120, 0.005, 5);
     for (cv::Point2f& p : from) p += cv::Point2f(sq.tl());
     from.emplace_back(-30.f, 20.f);  // outside the window: lost by both
-    const HostPyramid p0 = build(w0, 21, 3), p1 = build(w1, 21, 3);
+    const ref::Pyramid p0 = build(w0, 21, 3), p1 = build(w1, 21, 3);
     flow_lk::LkSettings s;
     s.window = 21;
     s.iterations = 30;
@@ -149,15 +115,12 @@ TEST(FlowLkMath, TrackPointIsCalcOpticalFlowPyrLKs) {
     const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.001);
     cv::calcOpticalFlowPyrLK(c0, c1, from, ahead, ok_a, err, cv::Size(21, 21), 2, stop);
     cv::calcOpticalFlowPyrLK(c1, c0, ahead, back, ok_b, err, cv::Size(21, 21), 2, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-    std::vector<std::int16_t> scratch(3 * 21 * 21);
     int agree = 0;
     for (std::size_t i = 0; i < from.size(); ++i) {
       float ax = 0, ay = 0, bx = from[i].x, by = from[i].y;
-      const bool sa = flow_lk::trackPoint(flow_lk::SoloTeam(), p0.levels.data(), p1.levels.data(), s, from[i].x,
-                                          from[i].y, false, &ax, &ay, scratch.data());
+      const bool sa = ref::track(p0, p1, s, from[i].x, from[i].y, false, &ax, &ay);
       // Backwards from OpenCV's forward result, so each direction is compared alone.
-      const bool sb = flow_lk::trackPoint(flow_lk::SoloTeam(), p1.levels.data(), p0.levels.data(), s, ahead[i].x,
-                                          ahead[i].y, true, &bx, &by, scratch.data());
+      const bool sb = ref::track(p1, p0, s, ahead[i].x, ahead[i].y, true, &bx, &by);
       EXPECT_EQ(sa, ok_a[i] != 0) << "point " << i;
       EXPECT_EQ(sb, ok_b[i] != 0) << "point " << i;
       if (!sa || !ok_a[i]) continue;
