@@ -53,10 +53,9 @@ TEST(CalibrationModel, LayoutFollowsTheOptions) {
   s = calibratingSettings();
   s.motion_model = MotionModelKind::kGyro;
   EXPECT_EQ(poseDim(s), kGyroDim);
-  // The defaults estimate the time offset; the extrinsic only when asked
-  // (motion_settings.def says why).
+  // Both only when asked (motion_settings.def says why).
   EXPECT_FALSE(EskfSettings().calib_cam_extrinsics);
-  EXPECT_TRUE(EskfSettings().calib_cam_timeoffset);
+  EXPECT_FALSE(EskfSettings().calib_cam_timeoffset);
 }
 
 TEST(CalibrationModel, CameraJacobianMatchesFiniteDifferences) {
