@@ -1,0 +1,120 @@
+#include "hapi_surface/cuda/tsdf_cuda.hpp"
+
+#include <cuda_runtime.h>
+
+namespace hapi_surface {
+namespace {
+
+__global__ void integrateKernel(TsdfIntegrationParams p, const float* depth, const float* weight, float* tsdf,
+                                float* voxel_weight) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  const int j = blockIdx.y * blockDim.y + threadIdx.y;
+  const int k = blockIdx.z;
+  if (i >= p.dims[0] || j >= p.dims[1]) return;
+  const std::size_t idx = (static_cast<std::size_t>(k) * p.dims[1] + j) * static_cast<std::size_t>(p.dims[0]) + i;
+  updateVoxel(p, i, j, k, depth, weight, &tsdf[idx], &voxel_weight[idx]);
+}
+
+// A device buffer of floats that grows to the largest size asked for.
+struct DeviceFloats {
+  float* ptr = nullptr;
+  std::size_t n = 0;
+  ~DeviceFloats() { cudaFree(ptr); }
+  bool reserve(std::size_t want) {
+    if (want <= n) return true;
+    cudaFree(ptr);
+    ptr = nullptr;
+    n = 0;
+    if (cudaMalloc(&ptr, want * sizeof(float)) != cudaSuccess) return false;
+    n = want;
+    return true;
+  }
+};
+
+}  // namespace
+
+struct CudaTsdfIntegrator::Buffers {
+  DeviceFloats depth, weight, tsdf, voxel_weight;
+  cudaEvent_t start = nullptr, kernel_start = nullptr, kernel_end = nullptr, end = nullptr;
+  Buffers() {
+    cudaEventCreate(&start);
+    cudaEventCreate(&kernel_start);
+    cudaEventCreate(&kernel_end);
+    cudaEventCreate(&end);
+  }
+  ~Buffers() {
+    cudaEventDestroy(start);
+    cudaEventDestroy(kernel_start);
+    cudaEventDestroy(kernel_end);
+    cudaEventDestroy(end);
+  }
+};
+
+bool surfaceCudaAvailable(std::string* info) {
+  int n = 0;
+  const cudaError_t e = cudaGetDeviceCount(&n);
+  if (e != cudaSuccess || n <= 0) {
+    if (info) *info = e != cudaSuccess ? std::string("no usable CUDA runtime/driver: ") + cudaGetErrorString(e)
+                                       : std::string("no CUDA device");
+    cudaGetLastError();  // clear the error so later calls start clean
+    return false;
+  }
+  cudaDeviceProp prop;
+  if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) {
+    if (info) *info = "cudaGetDeviceProperties failed";
+    cudaGetLastError();
+    return false;
+  }
+  if (info) *info = std::string(prop.name) + " (sm_" + std::to_string(prop.major) + std::to_string(prop.minor) + ")";
+  return true;
+}
+
+CudaTsdfIntegrator::CudaTsdfIntegrator() : buf_(std::make_unique<Buffers>()) {}
+CudaTsdfIntegrator::~CudaTsdfIntegrator() = default;
+
+SurfaceStatus CudaTsdfIntegrator::integrate(TsdfVolume* volume, const DepthFrame& frame) {
+  const SurfaceStatus st = checkDepthFrame(frame, volume->settings());
+  if (st != SurfaceStatus::kOk) return st;
+  const VoxelGrid& g = volume->grid();
+  const TsdfIntegrationParams p = integrationParams(g, frame, volume->settings());
+  const std::size_t nv = g.size(), np = frame.depth.data.size();
+  const bool has_weight = !frame.weight.empty();
+  Buffers& b = *buf_;
+  if (!b.depth.reserve(np) || (has_weight && !b.weight.reserve(np)) || !b.tsdf.reserve(nv) ||
+      !b.voxel_weight.reserve(nv)) {
+    cudaGetLastError();
+    return SurfaceStatus::kDeviceError;
+  }
+  const std::size_t vbytes = nv * sizeof(float), pbytes = np * sizeof(float);
+  bool ok = cudaEventRecord(b.start) == cudaSuccess;
+  ok = ok && cudaMemcpy(b.depth.ptr, frame.depth.data.data(), pbytes, cudaMemcpyHostToDevice) == cudaSuccess;
+  ok = ok && (!has_weight ||
+              cudaMemcpy(b.weight.ptr, frame.weight.data.data(), pbytes, cudaMemcpyHostToDevice) == cudaSuccess);
+  ok = ok && cudaMemcpy(b.tsdf.ptr, volume->tsdf().data(), vbytes, cudaMemcpyHostToDevice) == cudaSuccess;
+  ok = ok && cudaMemcpy(b.voxel_weight.ptr, volume->weight().data(), vbytes, cudaMemcpyHostToDevice) == cudaSuccess;
+  if (ok) {
+    const dim3 block(32, 8, 1);
+    const dim3 grid((g.dims.x() + 31) / 32, (g.dims.y() + 7) / 8, g.dims.z());
+    cudaEventRecord(b.kernel_start);
+    integrateKernel<<<grid, block>>>(p, b.depth.ptr, has_weight ? b.weight.ptr : nullptr, b.tsdf.ptr,
+                                     b.voxel_weight.ptr);
+    cudaEventRecord(b.kernel_end);
+    ok = cudaGetLastError() == cudaSuccess;
+  }
+  // Download into copies first: the host volume changes only on success.
+  std::vector<float> tsdf(nv), weight(nv);
+  ok = ok && cudaMemcpy(tsdf.data(), b.tsdf.ptr, vbytes, cudaMemcpyDeviceToHost) == cudaSuccess;
+  ok = ok && cudaMemcpy(weight.data(), b.voxel_weight.ptr, vbytes, cudaMemcpyDeviceToHost) == cudaSuccess;
+  ok = ok && cudaEventRecord(b.end) == cudaSuccess && cudaEventSynchronize(b.end) == cudaSuccess;
+  if (!ok) {
+    cudaGetLastError();
+    return SurfaceStatus::kDeviceError;
+  }
+  cudaEventElapsedTime(&kernel_ms_, b.kernel_start, b.kernel_end);
+  cudaEventElapsedTime(&total_ms_, b.start, b.end);
+  volume->mutableTsdf().swap(tsdf);
+  volume->mutableWeight().swap(weight);
+  return SurfaceStatus::kOk;
+}
+
+}  // namespace hapi_surface
