@@ -157,7 +157,9 @@ TEST(TsdfMesh, RebuildAfterPoseCorrectionEqualsFusionAtCorrectedPoses) {
   drifted[2].translation() += Eigen::Vector3d(0.002, 0, 0);  // 2 mm of drift on the last keyframe
   run(drifted, &wrong);
   ASSERT_NE(wrong.volume()->tsdf(), right.volume()->tsdf());
-  auto truth_at = [&](double t) { return std::optional<Eigen::Isometry3d>(truth[static_cast<int>(t)]); };
+  auto truth_at = [&](double t, const Eigen::Isometry3d&) {
+    return std::optional<Eigen::Isometry3d>(truth[static_cast<int>(t)]);
+  };
   // Corrections below the threshold change nothing.
   EXPECT_FALSE(right.correctPoses(truth_at));
   EXPECT_TRUE(wrong.correctPoses(truth_at));

@@ -48,9 +48,10 @@ class SurfaceMapper {
   SurfaceStatus addDepthFrame(double stamp, DepthFrame frame, const std::optional<Eigen::Isometry3d>& pose,
                               FrameUse* use);
 
-  // New poses of the stored keyframes: pose_at(stamp) (nullopt: unchanged).
-  // Returns true when the volume was rebuilt.
-  bool correctPoses(const std::function<std::optional<Eigen::Isometry3d>(double)>& pose_at);
+  // New poses of the stored keyframes: corrected(stamp, current pose)
+  // (nullopt: unchanged). Returns true when the volume was rebuilt.
+  using PoseCorrection = std::function<std::optional<Eigen::Isometry3d>(double, const Eigen::Isometry3d&)>;
+  bool correctPoses(const PoseCorrection& corrected);
 
   // The current mesh (re-extracted when the volume changed), with values.
   const Mesh& mesh();

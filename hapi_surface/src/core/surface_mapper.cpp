@@ -53,10 +53,10 @@ SurfaceStatus SurfaceMapper::addDepthFrame(double stamp, DepthFrame frame, const
   return SurfaceStatus::kOk;
 }
 
-bool SurfaceMapper::correctPoses(const std::function<std::optional<Eigen::Isometry3d>(double)>& pose_at) {
+bool SurfaceMapper::correctPoses(const PoseCorrection& corrected) {
   bool rebuild = false;
   for (Keyframe& k : keyframes_) {
-    const std::optional<Eigen::Isometry3d> T = pose_at(k.stamp);
+    const std::optional<Eigen::Isometry3d> T = corrected(k.stamp, k.frame.T_world_camera);
     if (!T || checkPose(*T) != SurfaceStatus::kOk) continue;
     if (translationBetween(k.frame.T_world_camera, *T) > settings_.rebuild_translation ||
         rotationBetween(k.frame.T_world_camera, *T) > settings_.rebuild_rotation)
