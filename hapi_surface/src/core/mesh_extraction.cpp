@@ -18,19 +18,31 @@ class Extractor {
 
   Mesh run() {
     const Eigen::Vector3i& d = g_.dims;
+    // Linear offsets of the cube's corners from corner 0.
+    const std::uint32_t sy = static_cast<std::uint32_t>(d.x()), sz = sy * static_cast<std::uint32_t>(d.y());
+    for (int c = 0; c < 8; ++c) offset_[c] = kCorner[c][0] + kCorner[c][1] * sy + kCorner[c][2] * sz;
+    reserveVertexIds();
     for (int k = 0; k + 1 < d.z(); ++k)
-      for (int j = 0; j + 1 < d.y(); ++j)
-        for (int i = 0; i + 1 < d.x(); ++i) cell(i, j, k);
+      for (int j = 0; j + 1 < d.y(); ++j) {
+        const auto row = static_cast<std::uint32_t>(g_.index(0, j, k));
+        for (int i = 0; i + 1 < d.x(); ++i) cell(row + static_cast<std::uint32_t>(i));
+      }
     return std::move(mesh_);
   }
 
  private:
-  void cell(int i, int j, int k) {
+  // About one vertex per surface voxel: the surface of a scan is a sheet
+  // across the volume.
+  void reserveVertexIds() { ids_.reserve(static_cast<std::size_t>(2 * g_.dims.x()) * g_.dims.y()); }
+
+  // The cube whose corner 0 is grid point g; left at the first corner
+  // below the weight (most of the volume is never observed).
+  void cell(std::uint32_t g) {
     std::uint32_t idx[8];
     float f[8];
     bool any_in = false, any_out = false;
     for (int c = 0; c < 8; ++c) {
-      idx[c] = static_cast<std::uint32_t>(g_.index(i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]));
+      idx[c] = g + offset_[c];
       if (w_[idx[c]] < min_w_) return;
       f[c] = tsdf_[idx[c]];
       (f[c] < 0.f ? any_in : any_out) = true;
@@ -105,6 +117,7 @@ class Extractor {
   float min_w_;
   Mesh mesh_;
   std::unordered_map<std::uint64_t, std::int32_t> ids_;
+  std::uint32_t offset_[8] = {};
 };
 
 }  // namespace
