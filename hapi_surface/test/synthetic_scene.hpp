@@ -6,6 +6,7 @@
 
 #include "hapi_surface/float_image.hpp"
 #include "hapi_surface/pinhole_camera.hpp"
+#include "hapi_surface/surface_settings.hpp"
 
 #include <Eigen/Geometry>
 
@@ -95,6 +96,16 @@ class Scene {
   std::vector<Plate> plates_;
   std::vector<Sphere> spheres_;
 };
+
+// The default settings with a volume of sx x sy x sz metres (the tests'
+// volumes are small, to run fast).
+inline SurfaceSettings volumeOf(double sx, double sy, double sz) {
+  SurfaceSettings s;
+  s.volume_size_x = sx;
+  s.volume_size_y = sy;
+  s.volume_size_z = sz;
+  return s;
+}
 
 // 640 x 480, 900 px focal length: 0.28 mm per pixel at 25 cm.
 inline PinholeCamera testCamera() {

@@ -21,8 +21,7 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 class BadInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    s_.volume_size_x = s_.volume_size_y = 0.05;
-    s_.volume_size_z = 0.02;
+    s_ = test::volumeOf(0.05, 0.05, 0.02);
     scene_.addPlane(Eigen::Vector3d(0, 0, 1), 0.25);
     good_.camera = testCamera();
     good_.depth = scene_.depth(good_.camera, Eigen::Isometry3d::Identity());

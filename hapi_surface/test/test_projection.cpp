@@ -32,13 +32,7 @@ Scene ballScene() {
 
 double pattern(const Eigen::Vector3d& p) { return 100.0 + 1000.0 * p.x() + 300.0 * p.y(); }
 
-SurfaceSettings settings() {
-  SurfaceSettings s;
-  s.volume_size_x = 0.07;
-  s.volume_size_y = 0.07;
-  s.volume_size_z = 0.06;
-  return s;
-}
+SurfaceSettings settings() { return test::volumeOf(0.07, 0.07, 0.06); }
 
 // A mapper fed with depth from 5 cameras spread over 4 cm, so the background
 // behind the ball is observed.

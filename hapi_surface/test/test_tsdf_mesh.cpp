@@ -20,13 +20,7 @@ using test::Scene;
 using test::testCamera;
 
 // A 6 x 6 x 3 cm volume at 0.5 mm (120 x 120 x 60 voxels).
-SurfaceSettings smallVolume() {
-  SurfaceSettings s;
-  s.volume_size_x = 0.06;
-  s.volume_size_y = 0.06;
-  s.volume_size_z = 0.03;
-  return s;
-}
+SurfaceSettings smallVolume() { return test::volumeOf(0.06, 0.06, 0.03); }
 
 struct MeshError {
   double rms = 0, max = 0, normal_dot_mean = 0;
@@ -96,8 +90,7 @@ TEST(TsdfMesh, SphereWithinAQuarterVoxel) {
     const double a = 0.3 * (i - 2);
     poses.push_back(lookAt(c + 0.23 * Eigen::Vector3d(std::sin(a), 0.1 * i - 0.2, -std::cos(a)), c));
   }
-  SurfaceSettings s = smallVolume();
-  s.volume_size_z = 0.05;
+  const SurfaceSettings s = test::volumeOf(0.06, 0.06, 0.05);
   const TsdfVolume vol = fuse(scene, poses, c, s);
   const Mesh m = extractMesh(vol);
   ASSERT_GT(m.faces.size(), 10000u);

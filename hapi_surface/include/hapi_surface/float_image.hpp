@@ -12,6 +12,8 @@
 
 #include "hapi_surface/surface_status.hpp"
 
+#include <hapi_nodelet_kit/raw_image_view.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -28,15 +30,8 @@ struct FloatImage {
   float& at(int u, int v) { return data[static_cast<std::size_t>(v) * width + u]; }
 };
 
-// A view of a camera buffer (sensor_msgs/Image's fields).
-struct RawImageView {
-  std::string encoding;
-  std::uint32_t width = 0, height = 0;
-  std::uint32_t step = 0;  // bytes per row
-  bool bigendian = false;
-  const std::uint8_t* data = nullptr;
-  std::size_t size = 0;  // bytes available at data
-};
+// A view of a camera buffer (sensor_msgs/Image's fields, hapi_nodelet_kit).
+using RawImageView = hapi_nodelet_kit::RawImageView;
 
 // The largest width or height accepted (a guard against absurd headers).
 constexpr std::uint32_t kMaxImageSide = 16384;

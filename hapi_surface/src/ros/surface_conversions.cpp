@@ -5,18 +5,6 @@
 namespace hapi_surface {
 namespace ros_glue {
 
-RawImageView rawView(const sensor_msgs::Image& image) {
-  RawImageView v;
-  v.encoding = image.encoding;
-  v.width = image.width;
-  v.height = image.height;
-  v.step = image.step;
-  v.bigendian = image.is_bigendian != 0;
-  v.data = image.data.data();
-  v.size = image.data.size();
-  return v;
-}
-
 SurfaceStatus toCamera(const sensor_msgs::CameraInfo& info, PinholeCamera* out) {
   PinholeCamera c;
   if (info.width > kMaxImageSide || info.height > kMaxImageSide) return SurfaceStatus::kBadCamera;

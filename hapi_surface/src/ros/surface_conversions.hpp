@@ -18,7 +18,7 @@ namespace hapi_surface {
 namespace ros_glue {
 
 // The image's buffer as the core's view (no copy).
-RawImageView rawView(const sensor_msgs::Image& image);
+using hapi_nodelet_kit::rawView;
 
 // A pinhole camera from K and the size; kBadCamera for zero or non-finite
 // entries. Distortion is not modelled (D ignored): the depth image is

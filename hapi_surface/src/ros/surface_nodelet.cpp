@@ -186,7 +186,11 @@ void SurfaceNodelet::imagingCallback(const sensor_msgs::ImageConstPtr& msg) {
 }
 
 void SurfaceNodelet::pathCallback(const nav_msgs::PathConstPtr& msg) {
-  if (msg->header.frame_id != params_.world_frame) return;
+  if (msg->header.frame_id != params_.world_frame) {
+    NODELET_ERROR_THROTTLE(10.0, "path ignored: frame '%s' is not ~world_frame '%s'", msg->header.frame_id.c_str(),
+                           params_.world_frame.c_str());
+    return;
+  }
   std::map<std::uint64_t, Eigen::Isometry3d> path;
   for (const auto& p : msg->poses) {
     Eigen::Isometry3d T;

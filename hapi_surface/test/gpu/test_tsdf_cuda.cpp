@@ -17,9 +17,7 @@ TEST(TsdfCuda, SameVolumeAsCpu) {
   std::string info;
   if (!surfaceCudaAvailable(&info)) HAPI_SKIP_WITHOUT_GPU("no CUDA device: " + info);
   std::printf("device: %s\n", info.c_str());
-  SurfaceSettings s;
-  s.volume_size_x = s.volume_size_y = 0.06;
-  s.volume_size_z = 0.03;
+  const SurfaceSettings s = test::volumeOf(0.06, 0.06, 0.03);
   const Eigen::Vector3d c(0, 0, 0.25);
   test::Scene scene;
   scene.addSphere(c + Eigen::Vector3d(0, 0, 0.01), 0.02);
@@ -53,8 +51,7 @@ TEST(TsdfCuda, SameVolumeAsCpu) {
 TEST(TsdfCuda, BadFrameChangesNothing) {
   std::string info;
   if (!surfaceCudaAvailable(&info)) HAPI_SKIP_WITHOUT_GPU("no CUDA device: " + info);
-  SurfaceSettings s;
-  s.volume_size_x = s.volume_size_y = s.volume_size_z = 0.02;
+  const SurfaceSettings s = test::volumeOf(0.02, 0.02, 0.02);
   TsdfVolume v(VoxelGrid::centredAt(Eigen::Vector3d(0, 0, 0.25), s), s);
   DepthFrame f;
   f.camera = test::testCamera();
