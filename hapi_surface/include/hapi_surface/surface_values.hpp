@@ -1,7 +1,7 @@
 // The imaging camera's values on the surface (docs/DESIGN.md "Surface",
-// eq. S4-S5). Values are accumulated per voxel of the TSDF grid, next to the
-// surface, so they survive re-meshing and the volume's growth: a weighted
-// mean per voxel, a vertex's value the mean of its edge's two ends.
+// eq. S4-S5). Values are accumulated per voxel of the TSDF grid, at the ends
+// of the mesh's vertex edges, so they survive re-meshing: a weighted mean
+// per voxel, a vertex's value the mean of its edge's two ends.
 #pragma once
 
 #include "hapi_surface/float_image.hpp"
@@ -18,7 +18,7 @@ namespace hapi_surface {
 
 struct ProjectionResult {
   SurfaceStatus status = SurfaceStatus::kOk;
-  std::size_t voxels_updated = 0;   // near-surface voxels that received a value
+  std::size_t voxels_updated = 0;   // voxels at the mesh's vertex edges that received a value
   std::size_t voxels_occluded = 0;  // in the image but behind the rendered mesh
 };
 

@@ -2,6 +2,7 @@
 
 #include "hapi_surface/mesh_depth_render.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -48,13 +49,16 @@ ProjectionResult SurfaceValues::addFrame(const TsdfVolume& volume, const Mesh& m
   const FloatImage zbuf = renderMeshDepth(mesh, cam, T_world_camera);
   const Eigen::Isometry3d T_cw = T_world_camera.inverse();
   const Eigen::Vector3d centre = T_world_camera.translation();
-  // Voxels within one voxel of the zero crossing carry the values (S5).
-  const float band = static_cast<float>(g.voxel / s.truncation);
-  const float min_w = static_cast<float>(s.mesh_min_weight);
-  const std::vector<float>& tsdf = volume.tsdf();
-  const std::vector<float>& w = volume.weight();
-  for (std::size_t idx = 0; idx < sum_w_.size(); ++idx) {
-    if (w[idx] < min_w || std::abs(tsdf[idx]) > band) continue;
+  // The voxels at the ends of the mesh's vertex edges carry the values
+  // (S5): those the vertices are sampled from.
+  std::vector<std::uint32_t> voxels;
+  voxels.reserve(2 * mesh.vertex_edges.size());
+  for (const auto& e : mesh.vertex_edges)
+    for (std::uint32_t v : e)
+      if (v < sum_w_.size()) voxels.push_back(v);
+  std::sort(voxels.begin(), voxels.end());
+  voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+  for (const std::uint32_t idx : voxels) {
     const Eigen::Vector3i c = g.coords(idx);
     const Eigen::Vector3d x = g.centre(c.x(), c.y(), c.z());
     const Eigen::Vector3d p = T_cw * x;
