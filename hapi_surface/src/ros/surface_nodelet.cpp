@@ -38,20 +38,16 @@ void SurfaceNodelet::onInit() {
   for (const std::string& w : reader.warnings()) NODELET_WARN("%s", w.c_str());
   if (!reader.ok()) return startup_.refuse(nh, pnh, getName(), "invalid parameters", reader.errors());
 
-  mapper_ = std::make_unique<SurfaceMapper>(params_.core);
 #ifdef HAPI_SURFACE_WITH_CUDA
   std::string gpu;
   if (params_.use_cuda && surfaceCudaAvailable(&gpu)) {
     cuda_ = std::make_unique<CudaTsdfIntegrator>();
-    // The CPU takes over a frame the GPU could not integrate (same result).
-    mapper_->setIntegrator([this](TsdfVolume* v, const DepthFrame& f) {
-      const SurfaceStatus st = cuda_->integrate(v, f);
-      return st == SurfaceStatus::kDeviceError ? v->integrate(f) : st;
-    });
     stats_.on_gpu = true;
     NODELET_INFO("SurfaceNodelet: TSDF integration on %s", gpu.c_str());
   }
 #endif
+  resetMapper();
+  depth_guard_ = std::make_unique<hapi_nodelet_kit::StampGuard>(params_.time_jump_reset);
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   mesh_pub_ = pnh.advertise<visualization_msgs::Marker>("mesh", 1, true);
@@ -91,6 +87,19 @@ void SurfaceNodelet::onInit() {
   NODELET_INFO("SurfaceNodelet: %d x %d x %d voxels of %.2f mm in '%s'%s", g.dims.x(), g.dims.y(), g.dims.z(),
                params_.core.voxel_size * 1e3, params_.world_frame.c_str(),
                params_.use_confidence ? ", depth weighted by its confidence" : "");
+}
+
+void SurfaceNodelet::resetMapper() {
+  mapper_ = std::make_unique<SurfaceMapper>(params_.core);
+#ifdef HAPI_SURFACE_WITH_CUDA
+  if (cuda_)  // the CPU takes over a frame the GPU could not integrate (same result)
+    mapper_->setIntegrator([this](TsdfVolume* v, const DepthFrame& f) {
+      const SurfaceStatus st = cuda_->integrate(v, f);
+      return st == SurfaceStatus::kDeviceError ? v->integrate(f) : st;
+    });
+#endif
+  last_path_.clear();
+  last_projection_ = ros::Time();
 }
 
 void SurfaceNodelet::subscribeWithTf(const std::string& topic, message_filters::Subscriber<sensor_msgs::Image>* sub,
@@ -138,6 +147,18 @@ void SurfaceNodelet::depthCallback(const sensor_msgs::ImageConstPtr& msg) {
                                                      : SurfaceStatus::kUnknownEncoding;
   const std::optional<Eigen::Isometry3d> pose = poseAt(msg->header.frame_id, msg->header.stamp);
   std::lock_guard<std::mutex> lk(mu_);
+  const hapi_nodelet_kit::StampCheck sc = depth_guard_->check(static_cast<std::int64_t>(msg->header.stamp.toNSec()));
+  if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReject) {
+    ++stats_.depth_out_of_order;
+    NODELET_ERROR_THROTTLE(2.0, "depth image dropped: stamp %.6f not after %.6f", msg->header.stamp.toSec(),
+                           sc.previousSec());
+    return;
+  }
+  if (sc.verdict == hapi_nodelet_kit::StampVerdict::kReset) {
+    ++stats_.time_jumps;
+    NODELET_WARN("depth stamp went back %.3f s: the surface starts again", sc.backSec());
+    resetMapper();
+  }
   if (st == SurfaceStatus::kOk && !depth_camera_) st = SurfaceStatus::kBadCamera;
   FrameUse use = FrameUse::kRejected;
   if (st == SurfaceStatus::kOk) {

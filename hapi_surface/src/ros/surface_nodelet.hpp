@@ -25,6 +25,7 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <hapi_msgs/SaveSurface.h>
+#include <hapi_nodelet_kit/stamp_guard.hpp>
 #include <hapi_nodelet_kit/startup_failure.hpp>
 #include <message_filters/subscriber.h>
 #include <nav_msgs/Path.h>
@@ -65,6 +66,9 @@ class SurfaceNodelet : public nodelet::Nodelet {
   FloatImage confidenceAt(const ros::Time& stamp);
   // Display colours of the mesh's values.
   std::vector<Rgb8> colours(const Mesh& mesh) const;
+  // A new, empty surface with the configured integrator (under mu_ once
+  // running).
+  void resetMapper();
   // Subscribes `topic` through a TF message filter to ~world_frame.
   void subscribeWithTf(const std::string& topic, message_filters::Subscriber<sensor_msgs::Image>* sub,
                        std::unique_ptr<ImageFilter>* filter, void (SurfaceNodelet::*cb)(const sensor_msgs::ImageConstPtr&),
@@ -78,6 +82,7 @@ class SurfaceNodelet : public nodelet::Nodelet {
 
   std::mutex mu_;
   std::unique_ptr<SurfaceMapper> mapper_;
+  std::unique_ptr<hapi_nodelet_kit::StampGuard> depth_guard_;
   std::unique_ptr<CudaTsdfIntegrator> cuda_;
   std::optional<PinholeCamera> depth_camera_, imaging_camera_;
   std::deque<sensor_msgs::ImageConstPtr> confidence_;

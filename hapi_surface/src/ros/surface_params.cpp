@@ -1,5 +1,7 @@
 #include "surface_params.hpp"
 
+#include <hapi_nodelet_kit/time_jump_reset_param.hpp>
+
 namespace hapi_surface {
 namespace ros_glue {
 
@@ -17,6 +19,7 @@ void readSurfaceParams(hapi_nodelet_kit::ParamReader& reader, SurfaceParams* out
   const std::string rule = reader.ok() ? p.core.validate() : "";
   if (!rule.empty()) reader.error("~" + rule);
   if (p.world_frame.empty()) reader.error("~world_frame must not be empty");
+  p.time_jump_reset = hapi_nodelet_kit::readTimeJumpReset(reader);
   if (!p.auto_colour_range && !(p.colour_max > p.colour_min)) reader.error("~colour_max must be > ~colour_min");
   reader.warnAboutUnknown("docs/RUNNING.md \"Surface\", surface_settings.def and surface_nodelet_params.def");
   *out = p;

@@ -17,6 +17,7 @@ struct SurfaceParams {
 #define HAPI_FIELD(type, name, default_value, range, unit, doc) type name = default_value;
 #include "surface_nodelet_params.def"
 #undef HAPI_FIELD
+  double time_jump_reset = 1.0;  // the stamp guard's (hapi_nodelet_kit), as in every nodelet
 };
 
 // Reads every ~ parameter through `reader` into *out (defaults for absent

@@ -12,7 +12,7 @@ void SurfaceStatistics::reject(Counter* counter, SurfaceStatus why) {
 }
 
 void SurfaceStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
-  const std::uint64_t depth = depth_received, used = keyframes + depth_skipped, imaging = imaging_received,
+  const std::uint64_t depth = depth_received, used = keyframes + depth_skipped + time_jumps, imaging = imaging_received,
                       projected = imaging_projected + imaging_throttled;
   if (depth > last_depth_ && used == last_used_)
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "depth images arrive but none is used (see the rejections)");
@@ -26,7 +26,8 @@ void SurfaceStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
   last_projected_ = projected;
   const std::pair<const char*, const Counter*> keys[] = {
       {"depth received", &depth_received},     {"depth rejected", &depth_rejected},
-      {"depth without TF", &depth_no_tf},      {"keyframes", &keyframes},
+      {"depth without TF", &depth_no_tf},      {"depth out of order", &depth_out_of_order},
+      {"time jumps (reset)", &time_jumps},     {"keyframes", &keyframes},
       {"depth not keyframes", &depth_skipped}, {"confidence missing", &confidence_missing},
       {"camera_info rejected", &camera_info_rejected}, {"imaging received", &imaging_received},
       {"imaging projected", &imaging_projected}, {"imaging rejected", &imaging_rejected},

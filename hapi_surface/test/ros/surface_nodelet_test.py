@@ -164,7 +164,14 @@ class SurfaceNodeletTest(unittest.TestCase):
         for k in range(7):
             self.depth_pub.publish(image(t0 + rospy.Duration(2.4 + 0.01 * k), "nowhere", depth, "32FC1"))
         self.wait_for("a frame without TF", lambda: self.counter("surface", "depth without TF") >= 1, 40)
-        self.assertGreaterEqual(self.counter("surface", "keyframes"), 1)
+        # A stamp slightly back is out of order; one far back (> time_jump_reset)
+        # starts the surface again, and that frame is its first keyframe.
+        self.depth_pub.publish(image(t0 + rospy.Duration(2.15), "stereo_left_optical_frame", depth, "32FC1"))
+        self.wait_for("an out-of-order depth image", lambda: self.counter("surface", "depth out of order") >= 1)
+        keyframes = self.counter("surface", "keyframes")
+        self.depth_pub.publish(image(t0 - rospy.Duration(5.0), "stereo_left_optical_frame", depth, "32FC1"))
+        self.wait_for("a time jump", lambda: self.counter("surface", "time jumps (reset)") >= 1)
+        self.wait_for("the first keyframe after it", lambda: self.counter("surface", "keyframes") >= keyframes + 1)
 
     def test_invalid_parameters_refused(self):
         def error_reported():
