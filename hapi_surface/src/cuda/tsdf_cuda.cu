@@ -1,6 +1,7 @@
 #include "hapi_surface/cuda/tsdf_cuda.hpp"
 
 #include <cuda_runtime.h>
+#include <hapi_nodelet_kit/cuda_device_probe.hpp>
 
 namespace hapi_surface {
 namespace {
@@ -50,24 +51,7 @@ struct CudaTsdfIntegrator::Buffers {
   }
 };
 
-bool surfaceCudaAvailable(std::string* info) {
-  int n = 0;
-  const cudaError_t e = cudaGetDeviceCount(&n);
-  if (e != cudaSuccess || n <= 0) {
-    if (info) *info = e != cudaSuccess ? std::string("no usable CUDA runtime/driver: ") + cudaGetErrorString(e)
-                                       : std::string("no CUDA device");
-    cudaGetLastError();  // clear the error so later calls start clean
-    return false;
-  }
-  cudaDeviceProp prop;
-  if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) {
-    if (info) *info = "cudaGetDeviceProperties failed";
-    cudaGetLastError();
-    return false;
-  }
-  if (info) *info = std::string(prop.name) + " (sm_" + std::to_string(prop.major) + std::to_string(prop.minor) + ")";
-  return true;
-}
+bool surfaceCudaAvailable(std::string* info) { return hapi_nodelet_kit::cudaDeviceUsable(info); }
 
 CudaTsdfIntegrator::CudaTsdfIntegrator() : buf_(std::make_unique<Buffers>()) {}
 CudaTsdfIntegrator::~CudaTsdfIntegrator() = default;
