@@ -33,6 +33,8 @@ enum class FrameUse { kRejected, kSkipped, kKeyframe };
 
 // Fuses a depth frame into the volume (CPU or a GPU integrator).
 using Integrator = std::function<SurfaceStatus(TsdfVolume*, const DepthFrame&)>;
+// The mesh of a volume (extractMesh, with or without the GPU's active cells).
+using Mesher = std::function<Mesh(const TsdfVolume&)>;
 
 class SurfaceMapper {
  public:
@@ -40,6 +42,8 @@ class SurfaceMapper {
 
   // The integrator (default: TsdfVolume::integrate).
   void setIntegrator(Integrator integrator) { integrator_ = std::move(integrator); }
+  // The mesher (default: extractMesh on the CPU alone).
+  void setMesher(Mesher mesher) { mesher_ = std::move(mesher); }
 
   // A depth frame at `stamp` (its T_world_camera is replaced by `pose`;
   // nullopt: no pose known for the stamp -> kNoPose). The first valid frame
@@ -71,6 +75,7 @@ class SurfaceMapper {
 
   SurfaceSettings settings_;
   Integrator integrator_;
+  Mesher mesher_;
   std::unique_ptr<TsdfVolume> volume_;
   SurfaceValues values_;
   std::deque<Keyframe> keyframes_;

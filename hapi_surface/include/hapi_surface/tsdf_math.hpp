@@ -1,5 +1,6 @@
-// The per-voxel TSDF update (docs/DESIGN.md "Surface", eq. S1-S3), written
-// once for the CPU volume and the CUDA kernel. Single precision, no fused
+// The per-voxel TSDF update (docs/DESIGN.md "Surface", eq. S1-S3) and the
+// test of a cube that takes part in the mesh ("Mesh"), written once for the
+// CPU and the CUDA kernels. Single precision, no fused
 // multiply-add (-ffp-contract=off / --fmad=false): both give the same bits.
 #pragma once
 
@@ -60,6 +61,32 @@ HAPI_SURFACE_HD void updateVoxel(const TsdfIntegrationParams& p, int i, int j, i
   *tsdf = (*tsdf * W + f * w) / (W + w);
   const float Wn = W + w;
   *voxel_weight = Wn < p.max_weight ? Wn : p.max_weight;
+}
+
+// Linear offsets of a cube's 8 corners from its corner 0 in a grid of nx x
+// ny x . voxels, corners in the order (0,0,0), (1,0,0), (1,1,0), (0,1,0),
+// (0,0,1), (1,0,1), (1,1,1), (0,1,1).
+struct CubeOffsets {
+  unsigned int o[8];
+};
+
+HAPI_SURFACE_HD CubeOffsets cubeOffsets(unsigned int nx, unsigned int ny) {
+  const unsigned int s = nx * ny;
+  return CubeOffsets{{0u, 1u, 1u + nx, nx, s, 1u + s, 1u + nx + s, nx + s}};
+}
+
+// Whether the cube at corner-0 voxel g is meshed: all 8 corners have weight
+// >= min_weight and the TSDF changes sign among them.
+HAPI_SURFACE_HD bool cubeActive(const float* tsdf, const float* weight, unsigned int g, const CubeOffsets& c,
+                                float min_weight) {
+  bool any_in = false, any_out = false;
+  for (int k = 0; k < 8; ++k) {
+    const unsigned int idx = g + c.o[k];
+    if (weight[idx] < min_weight) return false;
+    if (tsdf[idx] < 0.f) any_in = true;
+    else any_out = true;
+  }
+  return any_in && any_out;
 }
 
 }  // namespace hapi_surface

@@ -5,27 +5,34 @@
 namespace hapi_surface {
 namespace {
 
-// Cube corners (offsets in i, j, k) and its Kuhn split: 6 tetrahedra sharing
-// the diagonal 0-6. The same split in every cube cuts each shared face along
-// the same diagonal from both sides, so neighbouring tetrahedra meet exactly.
-constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+// The Kuhn split of a cube (corners as cubeOffsets(), tsdf_math.hpp): 6
+// tetrahedra sharing the diagonal 0-6. The same split in every cube cuts each
+// shared face along the same diagonal from both sides, so neighbouring
+// tetrahedra meet exactly.
 constexpr int kTet[6][4] = {{0, 5, 1, 6}, {0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}};
 
 class Extractor {
  public:
   explicit Extractor(const TsdfVolume& v)
-      : vol_(v), g_(v.grid()), tsdf_(v.tsdf()), w_(v.weight()), min_w_(static_cast<float>(v.settings().mesh_min_weight)) {}
+      : vol_(v),
+        g_(v.grid()),
+        tsdf_(v.tsdf()),
+        w_(v.weight()),
+        min_w_(static_cast<float>(v.settings().mesh_min_weight)),
+        offsets_(cubeOffsets(static_cast<unsigned int>(v.grid().dims.x()), static_cast<unsigned int>(v.grid().dims.y()))) {}
 
-  Mesh run() {
+  // active: nullptr, or one byte per voxel, 0 where the cube of that corner
+  // 0 is known not to be meshed (the others are tested here as well).
+  Mesh run(const std::vector<std::uint8_t>* active) {
     const Eigen::Vector3i& d = g_.dims;
-    // Linear offsets of the cube's corners from corner 0.
-    const std::uint32_t sy = static_cast<std::uint32_t>(d.x()), sz = sy * static_cast<std::uint32_t>(d.y());
-    for (int c = 0; c < 8; ++c) offset_[c] = kCorner[c][0] + kCorner[c][1] * sy + kCorner[c][2] * sz;
     reserveVertexIds();
     for (int k = 0; k + 1 < d.z(); ++k)
       for (int j = 0; j + 1 < d.y(); ++j) {
         const auto row = static_cast<std::uint32_t>(g_.index(0, j, k));
-        for (int i = 0; i + 1 < d.x(); ++i) cell(row + static_cast<std::uint32_t>(i));
+        for (int i = 0; i + 1 < d.x(); ++i) {
+          const std::uint32_t g = row + static_cast<std::uint32_t>(i);
+          if (!active || (*active)[g]) cell(g);
+        }
       }
     return std::move(mesh_);
   }
@@ -35,19 +42,15 @@ class Extractor {
   // across the volume.
   void reserveVertexIds() { ids_.reserve(static_cast<std::size_t>(2 * g_.dims.x()) * g_.dims.y()); }
 
-  // The cube whose corner 0 is grid point g; left at the first corner
-  // below the weight (most of the volume is never observed).
+  // The cube whose corner 0 is grid point g.
   void cell(std::uint32_t g) {
+    if (!cubeActive(tsdf_.data(), w_.data(), g, offsets_, min_w_)) return;
     std::uint32_t idx[8];
     float f[8];
-    bool any_in = false, any_out = false;
     for (int c = 0; c < 8; ++c) {
-      idx[c] = g + offset_[c];
-      if (w_[idx[c]] < min_w_) return;
+      idx[c] = g + offsets_.o[c];
       f[c] = tsdf_[idx[c]];
-      (f[c] < 0.f ? any_in : any_out) = true;
     }
-    if (!(any_in && any_out)) return;
     for (const auto& t : kTet) tetrahedron(idx, f, t);
   }
 
@@ -117,11 +120,14 @@ class Extractor {
   float min_w_;
   Mesh mesh_;
   std::unordered_map<std::uint64_t, std::int32_t> ids_;
-  std::uint32_t offset_[8] = {};
+  const CubeOffsets offsets_;
 };
 
 }  // namespace
 
-Mesh extractMesh(const TsdfVolume& volume) { return Extractor(volume).run(); }
+Mesh extractMesh(const TsdfVolume& volume, const std::vector<std::uint8_t>* active_cells) {
+  const bool usable = active_cells && active_cells->size() == volume.grid().size();
+  return Extractor(volume).run(usable ? active_cells : nullptr);
+}
 
 }  // namespace hapi_surface

@@ -7,7 +7,9 @@
 namespace hapi_surface {
 
 SurfaceMapper::SurfaceMapper(const SurfaceSettings& s)
-    : settings_(s), integrator_([](TsdfVolume* v, const DepthFrame& f) { return v->integrate(f); }) {}
+    : settings_(s),
+      integrator_([](TsdfVolume* v, const DepthFrame& f) { return v->integrate(f); }),
+      mesher_([](const TsdfVolume& v) { return extractMesh(v); }) {}
 
 bool SurfaceMapper::isKeyframe(double stamp, const Eigen::Isometry3d& T) const {
   if (keyframes_.empty()) return true;
@@ -73,7 +75,7 @@ bool SurfaceMapper::correctPoses(const PoseCorrection& corrected) {
 
 const Mesh& SurfaceMapper::mesh() {
   if (volume_ && mesh_stale_) {
-    mesh_ = extractMesh(*volume_);
+    mesh_ = mesher_(*volume_);
     mesh_stale_ = false;
   }
   values_.sampleVertices(&mesh_);

@@ -5,6 +5,7 @@
 #include "surface_conversions.hpp"
 
 #include "hapi_surface/depth_image_contract.hpp"
+#include "hapi_surface/mesh_extraction.hpp"
 #include "hapi_surface/ply_io.hpp"
 #ifdef HAPI_SURFACE_WITH_CUDA
 #include "hapi_surface/cuda/tsdf_cuda.hpp"
@@ -42,6 +43,7 @@ void SurfaceNodelet::onInit() {
   std::string gpu;
   if (params_.use_cuda && surfaceCudaAvailable(&gpu)) {
     cuda_ = std::make_unique<CudaTsdfIntegrator>();
+    cuda_cells_ = std::make_unique<CudaActiveCells>();
     stats_.on_gpu = true;
     NODELET_INFO("SurfaceNodelet: TSDF integration on %s", gpu.c_str());
   }
@@ -92,11 +94,17 @@ void SurfaceNodelet::onInit() {
 void SurfaceNodelet::resetMapper() {
   mapper_ = std::make_unique<SurfaceMapper>(params_.core);
 #ifdef HAPI_SURFACE_WITH_CUDA
-  if (cuda_)  // the CPU takes over a frame the GPU could not integrate (same result)
+  if (cuda_) {
+    // The CPU takes over what the GPU could not do (same result).
     mapper_->setIntegrator([this](TsdfVolume* v, const DepthFrame& f) {
       const SurfaceStatus st = cuda_->integrate(v, f);
       return st == SurfaceStatus::kDeviceError ? v->integrate(f) : st;
     });
+    mapper_->setMesher([this](const TsdfVolume& v) {
+      std::vector<std::uint8_t> active;
+      return cuda_cells_->find(v, &active) == SurfaceStatus::kOk ? extractMesh(v, &active) : extractMesh(v);
+    });
+  }
 #endif
   last_path_.clear();
   last_projection_ = ros::Time();

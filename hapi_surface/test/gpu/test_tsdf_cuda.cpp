@@ -1,7 +1,9 @@
 // The CUDA TSDF integration gives the CPU's volume (same per-voxel update,
 // tsdf_math.hpp, no FMA either side): weights equal, TSDF values equal to
-// the last bit, over several frames with and without per-pixel weights.
+// the last bit, over several frames with and without per-pixel weights. The
+// GPU's active cells give the CPU's mesh.
 #include "hapi_surface/cuda/tsdf_cuda.hpp"
+#include "hapi_surface/mesh_extraction.hpp"
 
 #include "hapi_test/skip.hpp"
 #include "synthetic_scene.hpp"
@@ -46,6 +48,20 @@ TEST(TsdfCuda, SameVolumeAsCpu) {
               cpu.observedVoxels(), differ, worst);
   EXPECT_GT(cpu.observedVoxels(), 100000u);
   EXPECT_EQ(differ, 0u);
+
+  // Meshing with the GPU's active cells: the same mesh.
+  CudaActiveCells cells;
+  std::vector<std::uint8_t> active;
+  ASSERT_EQ(cells.find(gpu, &active), SurfaceStatus::kOk);
+  std::size_t n_active = 0;
+  for (std::uint8_t a : active) n_active += a;
+  const Mesh a = extractMesh(gpu), b = extractMesh(gpu, &active);
+  std::printf("%zu active cells, %zu faces\n", n_active, a.faces.size());
+  EXPECT_GT(n_active, 1000u);
+  EXPECT_LT(n_active, active.size() / 10);
+  ASSERT_GT(a.faces.size(), 1000u);
+  EXPECT_EQ(a.faces, b.faces);
+  EXPECT_EQ(a.vertices, b.vertices);
 }
 
 TEST(TsdfCuda, BadFrameChangesNothing) {
