@@ -39,7 +39,8 @@ std::string readFile(const std::string& path) {
 }
 
 const std::vector<std::string> kPackages = {"hapi_slam", "hapi_msgs",    "hapi_nodelet_kit", "hapi_sim",
-                                            "hapi_dataset", "hapi_eskf", "hapi_frontend"};
+                                            "hapi_dataset", "hapi_eskf", "hapi_frontend",
+                                            "hapi_surface"};
 
 }  // namespace
 
@@ -75,7 +76,8 @@ TEST(PackageLayout, DeclaredNodeletsListOurNodelets) {
   const std::regex name_re("name=\"([A-Za-z0-9_/]+)\"");
   // The nodelets the launch files load: each package must export its own.
   const std::vector<std::pair<std::string, std::string>> kExports = {{"hapi_eskf", "hapi_eskf/EskfNodelet"},
-                                                                     {"hapi_frontend", "hapi_frontend/StereoFrontendNodelet"}};
+                                                                     {"hapi_frontend", "hapi_frontend/StereoFrontendNodelet"},
+                                                                     {"hapi_surface", "hapi_surface/SurfaceNodelet"}};
   for (const auto& [pkg, required] : kExports) {
     const std::string path = std::string(HAPI_SOURCE_DIR) + "/" + pkg + "/nodelet_plugins.xml";
     std::ifstream f(path);

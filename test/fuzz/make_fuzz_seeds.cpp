@@ -1,9 +1,12 @@
 // Writes the seed corpus of the fuzz targets: a few valid inputs per target
 // (and one near-miss each) in the record format of bounded_message.hpp.
-//   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed,image_flow,surface_motion_flow}/seed_*
+//   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed,image_flow,surface_motion_flow,
+//                                                 surface_input}/seed_*
 // Deterministic (fixed seeds): rerunning it rewrites the same files.
 #include "bounded_message.hpp"
 #include "synthetic_frames.hpp"
+
+#include "hapi_surface/ply_io.hpp"
 
 #include <hapi_msgs/ImageFlow.h>
 #include <hapi_msgs/StereoLandmarks.h>
@@ -239,6 +242,41 @@ void surfaceMotionFlows(const std::string& dir) {
   write(dir, "seed_bad_then_jump", bad);
 }
 
+// hapi_surface's inputs: a PLY file's bytes, then a depth image (a plane at
+// 25 cm with holes) and imaging frames in several encodings.
+void surfaceInput(const std::string& dir) {
+  namespace enc = sensor_msgs::image_encodings;
+  hapi_surface::Mesh mesh;
+  mesh.vertices = {{0, 0, 0.25f}, {0.01f, 0, 0.25f}, {0, 0.01f, 0.25f}};
+  mesh.normals = {{0, 0, -1}, {0, 0, -1}, {0, 0, -1}};
+  mesh.faces = {{0, 1, 2}};
+  mesh.values = {1.f, 2.f, std::numeric_limits<float>::quiet_NaN()};
+  const std::string ply = hapi_surface::plyBytes(mesh, {});
+  Bytes b;
+  for (int i = 0; i < 4; ++i) b.push_back(static_cast<std::uint8_t>(ply.size() >> (8 * i)));
+  b.insert(b.end(), ply.begin(), ply.end());
+  cv::Mat depth(48, 64, CV_32F, cv::Scalar(0.25f));
+  depth.at<float>(5, 5) = std::numeric_limits<float>::quiet_NaN();
+  depth.at<float>(6, 6) = std::numeric_limits<float>::infinity();
+  sensor_msgs::Image d = image(depth, enc::TYPE_32FC1);
+  d.header.stamp = ros::Time(1.0);
+  hapi_fuzz::appendRecord(d, &b);
+  const cv::Mat grey = texture(64, 48);
+  cv::Mat colour, wide, perfusion;
+  cv::cvtColor(grey, colour, cv::COLOR_GRAY2BGR);
+  grey.convertTo(wide, CV_16U, 16.0);
+  grey.convertTo(perfusion, CV_32F, 0.5);
+  perfusion.at<float>(10, 10) = std::numeric_limits<float>::quiet_NaN();
+  hapi_fuzz::appendRecord(image(grey, enc::MONO8), &b);
+  hapi_fuzz::appendRecord(image(colour, enc::BGR8), &b);
+  sensor_msgs::Image big_endian = image(wide, enc::MONO16);
+  big_endian.is_bigendian = 1;
+  big_endian.header.seq = 1;  // a camera size that does not match
+  hapi_fuzz::appendRecord(big_endian, &b);
+  hapi_fuzz::appendRecord(image(perfusion, enc::TYPE_32FC1), &b);
+  write(dir, "seed_depth_then_imaging", b);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -254,5 +292,6 @@ int main(int argc, char** argv) {
   compressed(out + "/compressed");
   imageFlow(out + "/image_flow");
   surfaceMotionFlows(out + "/surface_motion_flow");
+  surfaceInput(out + "/surface_input");
   return 0;
 }

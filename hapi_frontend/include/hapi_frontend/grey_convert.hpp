@@ -11,6 +11,8 @@
 #include "hapi_frontend/input_error.hpp"
 #include "hapi_frontend/param_spec.hpp"
 
+#include <hapi_nodelet_kit/raw_image_view.hpp>
+
 #include <opencv2/core.hpp>
 
 #include <cstddef>
@@ -19,16 +21,9 @@
 
 namespace hapi_frontend {
 
-// A view of a camera buffer; `data` must outlive every image returned
-// without a copy (mono8).
-struct RawImageView {
-  std::string encoding;
-  std::uint32_t width = 0, height = 0;
-  std::uint32_t step = 0;  // bytes per row
-  bool bigendian = false;
-  const std::uint8_t* data = nullptr;
-  std::size_t size = 0;    // bytes available at data
-};
+// A view of a camera buffer (hapi_nodelet_kit); `data` must outlive every
+// image returned without a copy (mono8).
+using RawImageView = hapi_nodelet_kit::RawImageView;
 
 // The declaration of the significant bits of mono16 input (the nodelets'
 // ~mono16_bits), written once for every reader.

@@ -5,18 +5,6 @@
 
 namespace hapi_frontend {
 
-RawImageView rawView(const sensor_msgs::Image& msg) {
-  RawImageView v;
-  v.encoding = msg.encoding;
-  v.width = msg.width;
-  v.height = msg.height;
-  v.step = msg.step;
-  v.bigendian = msg.is_bigendian != 0;
-  v.data = msg.data.data();
-  v.size = msg.data.size();
-  return v;
-}
-
 void fillFlowMsg(const ImageFlowResult& r, const std_msgs::Header& header, hapi_msgs::ImageFlow* msg) {
   msg->header = header;
   msg->previous_stamp.fromNSec(static_cast<std::uint64_t>(std::max<std::int64_t>(0, r.previous_stamp_ns)));

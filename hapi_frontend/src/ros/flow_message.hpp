@@ -11,8 +11,8 @@
 
 namespace hapi_frontend {
 
-// A view of msg's buffer: valid while msg lives.
-RawImageView rawView(const sensor_msgs::Image& msg);
+// A view of msg's buffer: valid while msg lives (hapi_nodelet_kit).
+using hapi_nodelet_kit::rawView;
 
 // header: the image's (stamp = the later frame, frame_id = its optical frame).
 void fillFlowMsg(const ImageFlowResult& result, const std_msgs::Header& header, hapi_msgs::ImageFlow* msg);
