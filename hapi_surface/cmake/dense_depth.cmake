@@ -1,0 +1,37 @@
+# Dense depth (docs/DESIGN.md "Dense depth"): the ROS-free core
+# hapi_surface_depth (SGBM matcher, rectifier), its gtest, and with catkin
+# the DenseDepthNodelet and the dense_depth_link tool.
+# The settings tables use hapi_eskf's field table (header only) and
+# hapi_dataset's CameraInfoData (header only).
+add_library(hapi_surface_depth
+  src/core/dense_depth.cpp src/core/dense_depth_settings.cpp src/core/dense_depth_rectifier.cpp)
+target_include_directories(hapi_surface_depth PUBLIC
+  $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:include>
+  $<BUILD_INTERFACE:${hapi_eskf_SOURCE_DIR}/include> $<BUILD_INTERFACE:${hapi_dataset_SOURCE_DIR}/include>)
+target_link_libraries(hapi_surface_depth PUBLIC hapi_nodelet_kit_headers ${OpenCV_LIBS})
+
+hapi_add_core_gtest(hapi_surface_dense_depth_test SOURCES test/test_dense_depth.cpp LIBS hapi_surface_depth)
+
+if(catkin_FOUND)
+  # The nodelet (src/ros) reuses the front end's image conversion
+  # (hapi_frontend_ros_conv: toGrey, toCalib checks, ReasonThrottle).
+  include_directories(SYSTEM ${catkin_INCLUDE_DIRS})
+  # Parameters and the keyframe processing, shared by the nodelet and the tool.
+  add_library(hapi_surface_dense_depth_ros STATIC
+    src/ros/dense_depth_nodelet_params.cpp src/ros/dense_depth_nodelet_processor.cpp)
+  target_include_directories(hapi_surface_dense_depth_ros PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/src/ros)
+  target_link_libraries(hapi_surface_dense_depth_ros PUBLIC hapi_surface_depth hapi_frontend_ros_conv hapi_nodelet_kit
+    ${catkin_LIBRARIES})
+  add_library(hapi_surface_dense_depth_nodelet
+    src/ros/dense_depth_nodelet.cpp src/ros/dense_depth_nodelet_diagnostics.cpp)
+  target_link_libraries(hapi_surface_dense_depth_nodelet PRIVATE hapi_surface_dense_depth_ros)
+  # Bytes per second of the depth topics on a recording (docs/DESIGN.md "Dense depth", link).
+  add_executable(dense_depth_link src/tools/dense_depth_link.cpp)
+  target_link_libraries(dense_depth_link PRIVATE hapi_surface_dense_depth_ros)
+  install(TARGETS hapi_surface_depth hapi_surface_dense_depth_nodelet dense_depth_link
+    ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+    LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+    RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+  install(FILES dense_depth_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+  install(DIRECTORY include/hapi_surface/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
+endif()
