@@ -11,6 +11,11 @@ target_include_directories(hapi_surface_depth PUBLIC
 target_link_libraries(hapi_surface_depth PUBLIC hapi_nodelet_kit_headers ${OpenCV_LIBS})
 
 hapi_add_core_gtest(hapi_surface_dense_depth_test SOURCES test/test_dense_depth.cpp LIBS hapi_surface_depth)
+# On the simulator's rendered skin scene against its true depth.
+if(TARGET hapi_sim_render)
+  hapi_add_core_gtest(hapi_surface_dense_depth_sim_test SOURCES test/test_dense_depth_sim.cpp
+                      LIBS hapi_surface_depth hapi_sim_render)
+endif()
 
 if(catkin_FOUND)
   # The nodelet (src/ros) reuses the front end's image conversion
