@@ -19,13 +19,15 @@ endif()
 
 if(catkin_FOUND)
   # The nodelet (src/ros) reuses the front end's image conversion
-  # (hapi_frontend_ros_conv: toGrey, toCalib checks, ReasonThrottle).
+  # (hapi_frontend_ros_conv: toGrey, the pair's size checks, ReasonThrottle) and
+  # hapi_dataset's message conversions.
   include_directories(SYSTEM ${catkin_INCLUDE_DIRS})
   # Parameters and the keyframe processing, shared by the nodelet and the tool.
   add_library(hapi_surface_dense_depth_ros STATIC
     src/ros/dense_depth_nodelet_params.cpp src/ros/dense_depth_nodelet_processor.cpp)
   target_include_directories(hapi_surface_dense_depth_ros PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/src/ros)
-  target_link_libraries(hapi_surface_dense_depth_ros PUBLIC hapi_surface_depth hapi_frontend_ros_conv hapi_nodelet_kit
+  target_link_libraries(hapi_surface_dense_depth_ros PUBLIC hapi_surface_depth hapi_frontend_ros_conv hapi_dataset_bag_messages
+    hapi_nodelet_kit
     ${catkin_LIBRARIES})
   add_library(hapi_surface_dense_depth_nodelet
     src/ros/dense_depth_nodelet.cpp src/ros/dense_depth_nodelet_diagnostics.cpp)
@@ -38,5 +40,12 @@ if(catkin_FOUND)
     LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
     RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
   install(FILES dense_depth_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+  if(CATKIN_ENABLE_TESTING)
+    # The nodelet on synthetic pairs: depth, header, bad input, invalid parameters.
+    find_package(rostest REQUIRED)
+    add_rostest(test/ros/dense_depth_nodelet.test DEPENDENCIES hapi_surface_dense_depth_nodelet)
+    install(PROGRAMS test/ros/dense_depth_nodelet_test.py DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+    hapi_label_tests(unit)
+  endif()
   install(DIRECTORY include/hapi_surface/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
 endif()

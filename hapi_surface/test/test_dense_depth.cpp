@@ -207,6 +207,10 @@ TEST(DenseDepth, RejectsMismatchedInput) {
   EXPECT_NE(matcher.compute(a, a, geometry(b.size()), &out), "");
   const cv::Mat c(240, 320, CV_16UC1, cv::Scalar(0));
   EXPECT_NE(matcher.compute(c, c, geometry(c.size()), &out), "");
+  // A baseline of kilometres (a corrupted P): disparities far wider than the image.
+  RectifiedGeometry huge = geometry(a.size());
+  huge.baseline = 1e300;
+  EXPECT_NE(matcher.compute(a, a, huge, &out).find("wider than"), std::string::npos);
 }
 
 CameraInfoData info(double fx, double cx, double cy, double tx, std::vector<double> dist) {

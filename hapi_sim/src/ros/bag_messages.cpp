@@ -4,28 +4,12 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include <cmath>
-#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
 #include "hapi_sim/text_format.hpp"
 
 namespace hapi_sim {
-
-sensor_msgs::Image toImagingMsg(const cv::Mat& image, const std_msgs::Header& h) {
-  if (image.type() == CV_8UC1) return toImageMsg(image, h);
-  if (image.type() != CV_32FC1) throw std::invalid_argument("imaging image must be CV_8UC1 or CV_32FC1");
-  sensor_msgs::Image m;
-  m.header = h;
-  m.height = image.rows;
-  m.width = image.cols;
-  m.encoding = "32FC1";
-  m.is_bigendian = 0;
-  m.step = image.cols * 4;
-  m.data.resize(static_cast<size_t>(m.step) * image.rows);
-  for (int r = 0; r < image.rows; ++r) std::memcpy(&m.data[static_cast<size_t>(r) * m.step], image.ptr(r), m.step);
-  return m;
-}
 
 ros::Time stampAt(int64_t ns) {
   constexpr int64_t kEpochSec = 1000000000;

@@ -31,9 +31,6 @@ using hapi_dataset::toImageMsg;
 using hapi_dataset::toPoseMsg;
 using hapi_dataset::toTransformMsg;
 
-// sensor_msgs/Image of a CV_8UC1 (mono8) or CV_32FC1 (32FC1) image.
-sensor_msgs::Image toImagingMsg(const cv::Mat& image, const std_msgs::Header& h);
-
 // nav_msgs/Odometry (REP-105): pose of child in frame_id, twist in child.
 nav_msgs::Odometry toOdometryMsg(const ros::Time& t, const std::string& frame, const std::string& child,
                                  const MotionSample& m);

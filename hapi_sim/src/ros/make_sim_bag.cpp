@@ -215,7 +215,7 @@ int main(int argc, char** argv) {
           h.frame_id = kImaging;
           h.seq = static_cast<uint32_t>(j);
           bag->write("/imaging/camera_info", stamp, toCameraInfoMsg(ci_imaging, h));
-          bag->write("/imaging/image_raw", stamp, toImagingMsg(image, h));
+          bag->write("/imaging/image_raw", stamp, toImageMsg(image, h));
         });
     if (asl) asl->close();
   } catch (const std::exception& e) {

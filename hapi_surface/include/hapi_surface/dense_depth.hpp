@@ -22,7 +22,9 @@ struct RectifiedGeometry {
 // The disparity interval the depth range [min_depth, max_depth] needs at
 // focal length f_px and baseline b (DESIGN "Dense depth", search range):
 // min_disparity = floor(f b / max_depth), num_disparities the span up to
-// ceil(f b / min_depth) rounded up to SGBM's multiple of 16.
+// ceil(f b / min_depth) rounded up to SGBM's multiple of 16. Requires
+// f b / min_depth to fit an int (DenseDepth::compute allows at most the
+// image width).
 struct DisparitySearch {
   int min_disparity = 0;
   int num_disparities = 16;
@@ -40,7 +42,9 @@ class DenseDepth {
   explicit DenseDepth(const DenseDepthSettings& settings);
 
   // left, right: the rectified pair, CV_8UC1 of geometry's size. Returns ""
-  // or why nothing was computed (sizes or types that do not match).
+  // or why nothing was computed (sizes or types that do not match, a
+  // geometry without focal length or baseline, or one whose depth range
+  // needs disparities wider than the image).
   std::string compute(const cv::Mat& left, const cv::Mat& right, const RectifiedGeometry& geometry,
                       DepthImage* out) const;
 

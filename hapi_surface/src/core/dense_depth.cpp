@@ -65,6 +65,12 @@ std::string DenseDepth::compute(const cv::Mat& left, const cv::Mat& right, const
     return "the rectified images and their geometry differ in size";
   if (!(g.fx > 0) || !(g.baseline > 0)) return "the rectified geometry needs fx > 0 and a baseline > 0";
   const DenseDepthSettings& s = settings_;
+  // A disparity beyond the image width has no match; the bound also keeps
+  // disparitySearch's integers finite.
+  const double largest = g.fx * g.baseline / s.min_depth;
+  if (!(largest <= left.cols))
+    return "min_depth needs disparities up to " + std::to_string(largest) + " px, wider than the " +
+           std::to_string(left.cols) + " px image (check the baseline in P, or raise min_depth)";
   const DisparitySearch search = disparitySearch(s.min_depth, s.max_depth, g.fx, g.baseline);
   const cv::Mat dl = disparity(left, right, search);
   cv::Mat dr;  // right-to-left: the mirrored pair has the same disparities

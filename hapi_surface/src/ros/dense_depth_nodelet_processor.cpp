@@ -4,39 +4,28 @@
 #include "image_input.hpp"
 
 #include <boost/make_shared.hpp>
-#include <sensor_msgs/image_encodings.h>
+#include <hapi_dataset/ros/bag_messages.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace hapi_surface {
 namespace {
 
-sensor_msgs::ImagePtr imageMsg(const cv::Mat& m, const std::string& encoding, const std_msgs::Header& header) {
-  auto msg = boost::make_shared<sensor_msgs::Image>();
-  msg->header = header;
-  msg->height = static_cast<uint32_t>(m.rows);
-  msg->width = static_cast<uint32_t>(m.cols);
-  msg->encoding = encoding;
-  msg->is_bigendian = 0;
-  msg->step = static_cast<uint32_t>(m.cols * m.elemSize());
-  msg->data.resize(static_cast<std::size_t>(msg->step) * m.rows);
-  for (int v = 0; v < m.rows; ++v) std::memcpy(&msg->data[static_cast<std::size_t>(v) * msg->step], m.ptr(v), msg->step);
-  return msg;
+sensor_msgs::ImagePtr imageMsg(const cv::Mat& m, const std_msgs::Header& header) {
+  return boost::make_shared<sensor_msgs::Image>(hapi_dataset::toImageMsg(m, header));
 }
 
+// The depth image's camera: the rectified, scaled left projection.
 sensor_msgs::CameraInfoPtr depthInfo(const RectifiedGeometry& g, const std_msgs::Header& header) {
-  auto msg = boost::make_shared<sensor_msgs::CameraInfo>();
-  msg->header = header;
-  msg->width = static_cast<uint32_t>(g.width);
-  msg->height = static_cast<uint32_t>(g.height);
-  msg->distortion_model = "plumb_bob";
-  msg->D.assign(5, 0.0);
-  msg->K = {g.fx, 0, g.cx, 0, g.fy, g.cy, 0, 0, 1};
-  msg->R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  msg->P = {g.fx, 0, g.cx, 0, 0, g.fy, g.cy, 0, 0, 0, 1, 0};
-  return msg;
+  CameraInfoData c;
+  c.width = g.width;
+  c.height = g.height;
+  c.D.assign(5, 0.0);
+  c.K = {g.fx, 0, g.cx, 0, g.fy, g.cy, 0, 0, 1};
+  c.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  c.P = {g.fx, 0, g.cx, 0, 0, g.fy, g.cy, 0, 0, 0, 1, 0};
+  return boost::make_shared<sensor_msgs::CameraInfo>(hapi_dataset::toCameraInfoMsg(c, header));
 }
 
 }  // namespace
@@ -86,8 +75,8 @@ InputError DenseDepthProcessor::process(const sensor_msgs::ImageConstPtr& left,
   if (!why.empty()) return {"core_rejected", why};
   cv::Mat confidence8;
   depth.confidence.convertTo(confidence8, CV_8U, 255.0);
-  out->depth = imageMsg(depth.depth, sensor_msgs::image_encodings::TYPE_32FC1, header);
-  out->confidence = imageMsg(confidence8, sensor_msgs::image_encodings::MONO8, header);
+  out->depth = imageMsg(depth.depth, header);            // 32FC1
+  out->confidence = imageMsg(confidence8, header);       // mono8
   out->camera_info = depthInfo(rectifier_->geometry(), header);
   out->valid_fraction = static_cast<double>(cv::countNonZero(depth.confidence > 0)) / depth.confidence.total();
   return {};
