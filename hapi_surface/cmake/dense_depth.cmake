@@ -4,13 +4,29 @@
 # The settings tables use hapi_eskf's field table (header only) and
 # hapi_dataset's CameraInfoData (header only).
 add_library(hapi_surface_depth
-  src/core/dense_depth.cpp src/core/dense_depth_settings.cpp src/core/dense_depth_rectifier.cpp)
+  src/core/dense_depth.cpp src/core/dense_depth_settings.cpp src/core/dense_depth_rectifier.cpp
+  src/core/dense_depth_block_match.cpp)
 target_include_directories(hapi_surface_depth PUBLIC
   $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:include>
   $<BUILD_INTERFACE:${hapi_eskf_SOURCE_DIR}/include> $<BUILD_INTERFACE:${hapi_dataset_SOURCE_DIR}/include>)
 target_link_libraries(hapi_surface_depth PUBLIC hapi_nodelet_kit_headers ${OpenCV_LIBS})
+# The block matcher on CUDA (use_gpu), compiled into the core when nvcc is
+# there; --fmad=false keeps its arithmetic that of the CPU reference.
+if(HAPI_CUDA_FOUND)
+  add_library(hapi_surface_depth_cuda_objs OBJECT src/cuda/dense_depth_block_match.cu)
+  target_include_directories(hapi_surface_depth_cuda_objs PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+  target_link_libraries(hapi_surface_depth_cuda_objs PUBLIC CUDA::cudart)
+  target_compile_options(hapi_surface_depth_cuda_objs PRIVATE $<$<COMPILE_LANGUAGE:CUDA>:--fmad=false>)
+  target_sources(hapi_surface_depth PRIVATE $<TARGET_OBJECTS:hapi_surface_depth_cuda_objs>)
+  target_compile_definitions(hapi_surface_depth PUBLIC HAPI_SURFACE_WITH_CUDA)
+  target_link_libraries(hapi_surface_depth PUBLIC CUDA::cudart)
+endif()
+# The CPU reference is compiled without FMA contraction too.
+set_source_files_properties(src/core/dense_depth_block_match.cpp PROPERTIES COMPILE_OPTIONS -ffp-contract=off)
 
-hapi_add_core_gtest(hapi_surface_dense_depth_test SOURCES test/test_dense_depth.cpp LIBS hapi_surface_depth)
+hapi_add_core_gtest(hapi_surface_dense_depth_test SOURCES test/test_dense_depth.cpp test/test_dense_depth_block_match.cpp
+                    LIBS hapi_surface_depth)
 # On the simulator's rendered skin scene against its true depth.
 if(TARGET hapi_sim_render)
   hapi_add_core_gtest(hapi_surface_dense_depth_sim_test SOURCES test/test_dense_depth_sim.cpp

@@ -34,6 +34,7 @@ DisparitySearch disparitySearch(double min_depth, double max_depth, double f_px,
 struct DepthImage {
   cv::Mat depth;       // CV_32FC1, metres along the optical axis, NaN where invalid
   cv::Mat confidence;  // CV_32FC1 in [0, 1], 0 where depth is NaN
+  bool used_gpu = false;  // use_gpu and a CUDA device did the matching
 };
 
 class DenseDepth {
@@ -51,10 +52,13 @@ class DenseDepth {
   const DenseDepthSettings& settings() const { return settings_; }
 
  private:
-  // SGBM disparity (px, float, < search.min_disparity where invalid) of
-  // `left` against `right`, the images padded on the left so that pixels
-  // near the border are searched over the whole interval too.
-  cv::Mat disparity(const cv::Mat& left, const cv::Mat& right, const DisparitySearch& search) const;
+  // Disparity (px, float, < search.min_disparity where invalid) of `left`
+  // against `right`: SGBM, or with use_gpu the block matcher (*used_gpu
+  // set when a CUDA device ran it).
+  cv::Mat disparity(const cv::Mat& left, const cv::Mat& right, const DisparitySearch& search, bool* used_gpu) const;
+  // SGBM on the images padded on the left, so that pixels near the border
+  // are searched over the whole interval too.
+  cv::Mat sgbmDisparity(const cv::Mat& left, const cv::Mat& right, const DisparitySearch& search) const;
   // Per-pixel texture term g^2 / (g^2 + g0^2) of the block's mean squared gradient.
   cv::Mat textureTerm(const cv::Mat& left) const;
 

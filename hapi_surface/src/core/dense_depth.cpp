@@ -1,6 +1,11 @@
 // DenseDepth (dense_depth.hpp); equations: docs/DESIGN.md "Dense depth".
 #include "hapi_surface/dense_depth.hpp"
 
+#include "hapi_surface/dense_depth_block_match.hpp"
+#ifdef HAPI_SURFACE_WITH_CUDA
+#include "hapi_surface/cuda/dense_depth_cuda.hpp"
+#endif
+
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
@@ -24,7 +29,25 @@ DenseDepth::DenseDepth(const DenseDepthSettings& settings) : settings_(settings)
   if (!e.empty()) throw std::invalid_argument("DenseDepth: " + e);
 }
 
-cv::Mat DenseDepth::disparity(const cv::Mat& left, const cv::Mat& right, const DisparitySearch& search) const {
+cv::Mat DenseDepth::disparity(const cv::Mat& left, const cv::Mat& right, const DisparitySearch& search,
+                              bool* used_gpu) const {
+  if (!settings_.use_gpu) return sgbmDisparity(left, right, search);
+  const BlockMatchParams p{search.min_disparity, search.num_disparities, settings_.block_size,
+                           settings_.uniqueness_ratio};
+  const cv::Mat l = left.isContinuous() ? left : left.clone(), r = right.isContinuous() ? right : right.clone();
+  cv::Mat d(left.size(), CV_32FC1);
+#ifdef HAPI_SURFACE_WITH_CUDA
+  if (denseDepthCudaDevice()) {
+    blockMatchCuda(l.data, r.data, l.cols, l.rows, static_cast<int>(l.step), p, d.ptr<float>());
+    *used_gpu = true;
+    return d;
+  }
+#endif
+  blockMatchCpu(l.data, r.data, l.cols, l.rows, static_cast<int>(l.step), p, d.ptr<float>());
+  return d;
+}
+
+cv::Mat DenseDepth::sgbmDisparity(const cv::Mat& left, const cv::Mat& right, const DisparitySearch& search) const {
   const DenseDepthSettings& s = settings_;
   const int area = s.block_size * s.block_size;
   cv::Ptr<cv::StereoSGBM> sgbm = cv::StereoSGBM::create(
@@ -72,19 +95,21 @@ std::string DenseDepth::compute(const cv::Mat& left, const cv::Mat& right, const
     return "min_depth needs disparities up to " + std::to_string(largest) + " px, wider than the " +
            std::to_string(left.cols) + " px image (check the baseline in P, or raise min_depth)";
   const DisparitySearch search = disparitySearch(s.min_depth, s.max_depth, g.fx, g.baseline);
-  const cv::Mat dl = disparity(left, right, search);
+  bool gpu = false;
+  const cv::Mat dl = disparity(left, right, search, &gpu);
   cv::Mat dr;  // right-to-left: the mirrored pair has the same disparities
   if (s.left_right_check) {
     cv::Mat lf, rf;
     cv::flip(left, lf, 1);
     cv::flip(right, rf, 1);
-    cv::flip(disparity(rf, lf, search), dr, 1);
+    cv::flip(disparity(rf, lf, search, &gpu), dr, 1);
   }
   const cv::Mat texture = textureTerm(left);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const double fb = g.fx * g.baseline;
   out->depth.create(left.size(), CV_32FC1);
   out->confidence.create(left.size(), CV_32FC1);
+  out->used_gpu = gpu;
   for (int v = 0; v < left.rows; ++v) {
     const float* dlr = dl.ptr<float>(v);
     const float* tr = texture.ptr<float>(v);

@@ -1,0 +1,108 @@
+// The block matcher of DenseDepth's GPU path: its CPU reference on a known
+// plane and on a flat image, and the CUDA kernel against it bit for bit
+// (skips without a device; fails there with HAPI_REQUIRE_GPU=1).
+#include "hapi_surface/dense_depth.hpp"
+#include "hapi_surface/dense_depth_block_match.hpp"
+#ifdef HAPI_SURFACE_WITH_CUDA
+#include "hapi_surface/cuda/dense_depth_cuda.hpp"
+#endif
+
+#include "hapi_test/skip.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+namespace hapi_surface {
+namespace {
+
+cv::Mat speckle(cv::Size size, int seed) {
+  cv::RNG rng(seed);
+  cv::Mat noise(size, CV_32F);
+  rng.fill(noise, cv::RNG::NORMAL, 0, 60);
+  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.2);
+  cv::Mat out;
+  noise.convertTo(out, CV_8U, 1.0, 128);
+  return out;
+}
+
+// The left image shifted by a constant disparity d (px, sub-pixel).
+cv::Mat shifted(const cv::Mat& left, double d) {
+  const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, -d, 0, 1, 0);
+  cv::Mat right;
+  cv::warpAffine(left, right, m, left.size(), cv::INTER_CUBIC, cv::BORDER_REFLECT);
+  return right;
+}
+
+TEST(BlockMatch, CpuReferenceFindsTheDisparity) {
+  const cv::Mat left = speckle(cv::Size(160, 120), 4), right = shifted(left, 40.3);
+  const BlockMatchParams p{30, 32, 7, 10};
+  std::vector<float> d(left.total());
+  blockMatchCpu(left.data, right.data, left.cols, left.rows, static_cast<int>(left.step), p, d.data());
+  std::vector<double> err;
+  for (int y = 5; y < left.rows - 5; ++y)
+    for (int x = 50; x < left.cols - 5; ++x) {  // x >= d: seen by both
+      const float v = d[static_cast<std::size_t>(y) * left.cols + x];
+      if (v >= p.min_disparity) err.push_back(std::abs(v - 40.3));
+    }
+  ASSERT_GT(err.size(), 0.9 * (left.rows - 10) * (left.cols - 55));
+  std::nth_element(err.begin(), err.begin() + err.size() / 2, err.end());
+  EXPECT_LT(err[err.size() / 2], 0.15);  // parabola sub-pixel: a tenth of a pixel
+}
+
+TEST(BlockMatch, FlatImageHasNoUniqueMinimum) {
+  const cv::Mat flat(60, 80, CV_8UC1, cv::Scalar(90));
+  const BlockMatchParams p{4, 16, 5, 10};
+  std::vector<float> d(flat.total());
+  blockMatchCpu(flat.data, flat.data, flat.cols, flat.rows, static_cast<int>(flat.step), p, d.data());
+  for (float v : d) ASSERT_EQ(v, p.min_disparity - 1);
+}
+
+TEST(BlockMatch, DenseDepthGpuPathGivesThePlane) {
+  // use_gpu without a device runs the same matcher on the CPU.
+  const cv::Size size(320, 240);
+  RectifiedGeometry g;
+  g.fx = g.fy = 250;
+  g.cx = 160;
+  g.cy = 120;
+  g.baseline = 0.06;
+  g.width = size.width;
+  g.height = size.height;
+  const double z = 0.25, d = g.fx * g.baseline / z;  // 60 px
+  const cv::Mat left = speckle(size, 9), right = shifted(left, d);
+  DenseDepthSettings s;
+  s.use_gpu = true;
+  DepthImage out;
+  ASSERT_EQ(DenseDepth(s).compute(left, right, g, &out), "");
+  std::vector<double> err;
+  for (int v = 0; v < size.height; ++v)
+    for (int u = 80; u < size.width; ++u) {
+      const float zz = out.depth.at<float>(v, u);
+      if (std::isfinite(zz)) err.push_back(std::abs(zz - z));
+    }
+  EXPECT_GT(err.size(), 0.9 * size.height * (size.width - 80));
+  std::nth_element(err.begin(), err.begin() + err.size() / 2, err.end());
+  EXPECT_LT(err[err.size() / 2], 0.0005);
+}
+
+TEST(BlockMatch, CudaEqualsCpuBitForBit) {
+#ifndef HAPI_SURFACE_WITH_CUDA
+  GTEST_SKIP() << "built without CUDA";
+#else
+  if (!denseDepthCudaDevice()) HAPI_SKIP_WITHOUT_GPU("no CUDA device");
+  const cv::Mat left = speckle(cv::Size(321, 203), 5), right = shifted(left, 23.7);  // odd sizes: partial blocks
+  for (const BlockMatchParams& p : {BlockMatchParams{10, 32, 5, 10}, BlockMatchParams{0, 48, 9, 0}}) {
+    std::vector<float> cpu(left.total()), gpu(left.total());
+    blockMatchCpu(left.data, right.data, left.cols, left.rows, static_cast<int>(left.step), p, cpu.data());
+    blockMatchCuda(left.data, right.data, left.cols, left.rows, static_cast<int>(left.step), p, gpu.data());
+    ASSERT_EQ(std::memcmp(cpu.data(), gpu.data(), cpu.size() * sizeof(float)), 0) << "block " << p.block_size;
+  }
+#endif
+}
+
+}  // namespace
+}  // namespace hapi_surface
