@@ -5,6 +5,7 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include <chrono>
+#include <functional>
 
 namespace hapi_surface {
 
@@ -12,10 +13,7 @@ DenseDepthNodelet::~DenseDepthNodelet() {
   // Inputs first: unsubscribing waits for running callbacks, so none can
   // touch the mailbox while the members below are destroyed.
   diag_timer_.stop();
-  left_sub_.unsubscribe();
-  right_sub_.unsubscribe();
-  left_info_sub_.unsubscribe();
-  right_info_sub_.unsubscribe();
+  input_.shutdown();
   mailbox_.close();
   if (worker_.joinable()) worker_.join();
 }
@@ -31,49 +29,24 @@ void DenseDepthNodelet::onInit() {
                            reader.errors());
   processor_ = std::make_unique<DenseDepthProcessor>(params_);  // parameters validated above
   gate_ = std::make_unique<DenseDepthKeyframeGate>(params_.rate);
-  if (!subscribe(nh, pnh)) return;
+  const std::string why = input_.subscribeImages(nh, pnh, params_.image_transport, params_.queue_size);
+  if (!why.empty())
+    return startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(),
+                           "image transport '" + params_.image_transport + "' unavailable", {why});
   startDiagnostics();
   depth_pub_ = pnh.advertise<sensor_msgs::Image>("depth", 2);
   confidence_pub_ = pnh.advertise<sensor_msgs::Image>("confidence", 2);
   info_pub_ = pnh.advertise<sensor_msgs::CameraInfo>("camera_info", 2);
   worker_ = std::thread(&DenseDepthNodelet::workerLoop, this);
 
-  const uint32_t q = static_cast<uint32_t>(params_.queue_size);
-  left_info_sub_.subscribe(nh, "left/camera_info", q);
-  right_info_sub_.subscribe(nh, "right/camera_info", q);
-  if (params_.approximate_sync) {
-    approx_sync_ = std::make_unique<message_filters::Synchronizer<ApproxPolicy>>(
-        ApproxPolicy(q), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
-    approx_sync_->registerCallback(&DenseDepthNodelet::onSynced, this);
-  } else {
-    exact_sync_ = std::make_unique<message_filters::Synchronizer<ExactPolicy>>(
-        ExactPolicy(q), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
-    exact_sync_->registerCallback(&DenseDepthNodelet::onSynced, this);
-  }
+  using namespace std::placeholders;
+  input_.synchronise(nh, params_.queue_size, params_.approximate_sync,
+                     std::bind(&DenseDepthNodelet::onSynced, this, _1, _2, _3, _4), nullptr);
   NODELET_INFO("dense depth: %.2f Hz, depth %.2f-%.2f m, image scale %.3g, block %d, left-right check %s; "
-               "%s %s -> %s %s",
+               "%s -> %s %s",
                params_.rate, params_.depth.min_depth, params_.depth.max_depth, params_.depth.image_scale,
-               params_.depth.block_size, params_.depth.left_right_check ? "on" : "off", left_sub_.getTopic().c_str(),
-               right_sub_.getTopic().c_str(), depth_pub_.getTopic().c_str(), confidence_pub_.getTopic().c_str());
-}
-
-bool DenseDepthNodelet::subscribe(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
-  const uint32_t q = static_cast<uint32_t>(params_.queue_size);
-  it_ = std::make_unique<image_transport::ImageTransport>(nh);
-  const image_transport::TransportHints hints(params_.image_transport, ros::TransportHints(), pnh);
-  try {
-    // Resolved first, so a transport plugin's "<base>/compressed" follows the
-    // remapping (StereoFrontendNodelet::subscribeImages).
-    left_sub_.subscribe(*it_, nh.resolveName("left/image_raw"), q, hints);
-    right_sub_.subscribe(*it_, nh.resolveName("right/image_raw"), q, hints);
-  } catch (const std::exception& ex) {
-    left_sub_.unsubscribe();
-    right_sub_.unsubscribe();
-    startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(),
-                    "image transport '" + params_.image_transport + "' unavailable", {ex.what()});
-    return false;
-  }
-  return true;
+               params_.depth.block_size, params_.depth.left_right_check ? "on" : "off", input_.topics().c_str(),
+               depth_pub_.getTopic().c_str(), confidence_pub_.getTopic().c_str());
 }
 
 void DenseDepthNodelet::startDiagnostics() {

@@ -23,18 +23,13 @@
 #include "dense_depth_nodelet_params.hpp"
 #include "dense_depth_nodelet_processor.hpp"
 #include "reason_throttle.hpp"
+#include "stereo_pair_input.hpp"
 
 #include "hapi_surface/dense_depth_keyframe_gate.hpp"
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <hapi_nodelet_kit/mailbox.hpp>
 #include <hapi_nodelet_kit/startup_failure.hpp>
-#include <image_transport/image_transport.h>
-#include <image_transport/subscriber_filter.h>
-#include <message_filters/subscriber.h>
-#include <message_filters/sync_policies/approximate_time.h>
-#include <message_filters/sync_policies/exact_time.h>
-#include <message_filters/synchronizer.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 
@@ -49,17 +44,12 @@ class DenseDepthNodelet : public nodelet::Nodelet {
   ~DenseDepthNodelet() override;
 
  private:
-  using Image = sensor_msgs::Image;
-  using Info = sensor_msgs::CameraInfo;
-  using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Info, Image, Info>;
-  using ApproxPolicy = message_filters::sync_policies::ApproximateTime<Image, Info, Image, Info>;
   struct Pair {
     sensor_msgs::ImageConstPtr left, right;
     sensor_msgs::CameraInfoConstPtr left_info, right_info;
   };
 
   void onInit() override;
-  bool subscribe(ros::NodeHandle& nh, ros::NodeHandle& pnh);
   void startDiagnostics();
   void onSynced(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
                 const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri);
@@ -80,11 +70,7 @@ class DenseDepthNodelet : public nodelet::Nodelet {
   ros::WallTimer diag_timer_;
   ros::Publisher depth_pub_, confidence_pub_, info_pub_;
 
-  std::unique_ptr<image_transport::ImageTransport> it_;
-  image_transport::SubscriberFilter left_sub_, right_sub_;
-  message_filters::Subscriber<Info> left_info_sub_, right_info_sub_;
-  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
-  std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
+  hapi_frontend::StereoPairInput input_;
 
   hapi_nodelet_kit::Mailbox<Pair> mailbox_;
   std::thread worker_;
