@@ -1,6 +1,7 @@
 // DenseDepth and StereoRectifier on synthetic pairs with known depth.
 #include "hapi_surface/dense_depth.hpp"
 #include "hapi_surface/dense_depth_rectifier.hpp"
+#include "test_dense_depth_images.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
@@ -13,16 +14,7 @@
 namespace hapi_surface {
 namespace {
 
-// Smooth random texture (speckle of a few px), deterministic.
-cv::Mat texture(cv::Size size, int seed) {
-  cv::RNG rng(seed);
-  cv::Mat noise(size, CV_32F);
-  rng.fill(noise, cv::RNG::NORMAL, 0, 60);
-  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.2);
-  cv::Mat out;
-  noise.convertTo(out, CV_8U, 1.0, 128);
-  return out;
-}
+using test_images::speckle;
 
 // The right image of a left image seeing a surface of disparity d(u, v)
 // (left pixel u appears at u - d(u) on the right): right(x) = left(u) with
@@ -111,7 +103,7 @@ TEST(DenseDepth, SlantedPlaneToSubMillimetre) {
       z.at<float>(v, u) = static_cast<float>(0.22 + 0.08 * u / (size.width - 1.0));
       d.at<float>(v, u) = static_cast<float>(g.fx * g.baseline / z.at<float>(v, u));
     }
-  const cv::Mat left = texture(size, 3);
+  const cv::Mat left = speckle(size, 3);
   const cv::Mat right = shiftedRight(left, d);
   DenseDepth matcher{DenseDepthSettings()};
   DepthImage out;
@@ -136,7 +128,7 @@ TEST(DenseDepth, SlantedPlaneToSubMillimetre) {
 TEST(DenseDepth, FlatRegionsAndOutOfRangeAreInvalid) {
   const cv::Size size(320, 240);
   const RectifiedGeometry g = geometry(size);
-  cv::Mat left = texture(size, 5);
+  cv::Mat left = speckle(size, 5);
   left(cv::Rect(120, 80, 80, 80)).setTo(128);  // no texture at all
   // Everything at 0.25 m except a band at 0.1 m (nearer than min_depth).
   cv::Mat d(size, CV_32F, cv::Scalar(g.fx * g.baseline / 0.25));
@@ -161,7 +153,7 @@ TEST(DenseDepth, OccludedPixelsAreInvalid) {
   // planes are fronto-parallel, textured in left-image coordinates.
   const cv::Size size(320, 240);
   const RectifiedGeometry g = geometry(size);
-  const cv::Mat back = texture(size, 7), front = texture(size, 8);
+  const cv::Mat back = speckle(size, 7), front = speckle(size, 8);
   const cv::Rect box(140, 60, 80, 120);
   const int d_back = 40, d_front = 70;
   cv::Mat left = back.clone();
@@ -186,7 +178,7 @@ TEST(DenseDepth, LeftRightCheckRemovesMismatches) {
   // them; matched the other way round it is a different one.
   const cv::Size size(320, 240);
   const RectifiedGeometry g = geometry(size);
-  const cv::Mat left = texture(size, 7), right = texture(size, 8);
+  const cv::Mat left = speckle(size, 7), right = speckle(size, 8);
   DenseDepthSettings s;
   s.uniqueness_ratio = 0;
   s.speckle_window = 0;
@@ -248,7 +240,7 @@ TEST(StereoRectifier, DistortedPairGivesThePlaneDepth) {
   const CameraInfoData l = info(502.3, 321.4, 238.7, 0, {-0.05, 0.01, 2e-4, -1.5e-4, 0});
   CameraInfoData r = info(501.6, 318.9, 240.2, -501.6 * 0.06, {-0.048, 0.009, -1e-4, 1e-4, 0});
   const double z = 0.25;
-  const cv::Mat plane = texture(cv::Size(1400, 900), 11);  // the plane's texture, 0.2 mm per texel
+  const cv::Mat plane = speckle(cv::Size(1400, 900), 11);  // the plane's texture, 0.2 mm per texel
   const double texel = 0.0002;
   auto render = [&](const CameraInfoData& c, double cam_x) {
     // Every raw pixel: undistort to a ray, intersect the plane z = 0.25 m.

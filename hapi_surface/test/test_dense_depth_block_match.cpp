@@ -8,6 +8,7 @@
 #endif
 
 #include "hapi_test/skip.hpp"
+#include "test_dense_depth_images.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -20,15 +21,7 @@
 namespace hapi_surface {
 namespace {
 
-cv::Mat speckle(cv::Size size, int seed) {
-  cv::RNG rng(seed);
-  cv::Mat noise(size, CV_32F);
-  rng.fill(noise, cv::RNG::NORMAL, 0, 60);
-  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.2);
-  cv::Mat out;
-  noise.convertTo(out, CV_8U, 1.0, 128);
-  return out;
-}
+using test_images::speckle;
 
 // The left image shifted by a constant disparity d (px, sub-pixel).
 cv::Mat shifted(const cv::Mat& left, double d) {
