@@ -1,13 +1,8 @@
 // The block matcher of DenseDepth's GPU path: its CPU reference on a known
-// plane and on a flat image, and the CUDA kernel against it bit for bit
-// (skips without a device; fails there with HAPI_REQUIRE_GPU=1).
+// shift, on a flat image, and in DenseDepth (use_gpu without a device). The
+// kernel against it: test_dense_depth_cuda.cpp.
 #include "hapi_surface/dense_depth.hpp"
 #include "hapi_surface/dense_depth_block_match.hpp"
-#ifdef HAPI_SURFACE_WITH_CUDA
-#include "hapi_surface/cuda/dense_depth_cuda.hpp"
-#endif
-
-#include "hapi_test/skip.hpp"
 #include "test_dense_depth_images.hpp"
 
 #include <gtest/gtest.h>
@@ -15,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <vector>
 
 namespace hapi_surface {
@@ -80,21 +74,6 @@ TEST(BlockMatch, DenseDepthGpuPathGivesThePlane) {
   EXPECT_GT(err.size(), 0.9 * size.height * (size.width - 80));
   std::nth_element(err.begin(), err.begin() + err.size() / 2, err.end());
   EXPECT_LT(err[err.size() / 2], 0.0005);
-}
-
-TEST(BlockMatch, CudaEqualsCpuBitForBit) {
-#ifndef HAPI_SURFACE_WITH_CUDA
-  GTEST_SKIP() << "built without CUDA";
-#else
-  if (!denseDepthCudaDevice()) HAPI_SKIP_WITHOUT_GPU("no CUDA device");
-  const cv::Mat left = speckle(cv::Size(321, 203), 5), right = shifted(left, 23.7);  // odd sizes: partial blocks
-  for (const BlockMatchParams& p : {BlockMatchParams{10, 32, 5, 10}, BlockMatchParams{0, 48, 9, 0}}) {
-    std::vector<float> cpu(left.total()), gpu(left.total());
-    blockMatchCpu(left.data, right.data, left.cols, left.rows, static_cast<int>(left.step), p, cpu.data());
-    blockMatchCuda(left.data, right.data, left.cols, left.rows, static_cast<int>(left.step), p, gpu.data());
-    ASSERT_EQ(std::memcmp(cpu.data(), gpu.data(), cpu.size() * sizeof(float)), 0) << "block " << p.block_size;
-  }
-#endif
 }
 
 }  // namespace
