@@ -7,7 +7,7 @@
 // calibration is kept until a different one arrives), as in the nodelet.
 // Input: up to 3 groups of 4 records (left image, right image, left info,
 // right info; bounded_message.hpp).
-#include "bounded_message.hpp"
+#include "stereo_pair_records.hpp"
 
 #include "image_input.hpp"
 #include "landmarks_message.hpp"
@@ -36,19 +36,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   StereoPipeline pipeline(params);
   hapi_fuzz::Records records(data, size);
   for (int pair = 0; pair < 3; ++pair) {
-    const std::uint8_t* rec[4];
-    std::size_t len[4];
-    bool complete = true;
-    for (int i = 0; i < 4 && complete; ++i) complete = records.next(&rec[i], &len[i]);
-    if (!complete) break;
-    auto left = boost::make_shared<sensor_msgs::Image>();
-    auto right = boost::make_shared<sensor_msgs::Image>();
-    sensor_msgs::CameraInfo left_info, right_info;
-    if (!hapi_fuzz::deserialise<sensor_msgs::Image_>(rec[0], len[0], left.get()) ||
-        !hapi_fuzz::deserialise<sensor_msgs::Image_>(rec[1], len[1], right.get()) ||
-        !hapi_fuzz::deserialise<sensor_msgs::CameraInfo_>(rec[2], len[2], &left_info) ||
-        !hapi_fuzz::deserialise<sensor_msgs::CameraInfo_>(rec[3], len[3], &right_info))
-      continue;
+    hapi_fuzz::StereoPairMsgs m;
+    const hapi_fuzz::PairRead read = hapi_fuzz::nextPair(&records, &m);
+    if (read == hapi_fuzz::PairRead::kEnd) break;
+    if (read == hapi_fuzz::PairRead::kRejected) continue;
+    const sensor_msgs::ImagePtr& left = m.left;
+    const sensor_msgs::ImagePtr& right = m.right;
+    const sensor_msgs::CameraInfo& left_info = *m.left_info;
+    const sensor_msgs::CameraInfo& right_info = *m.right_info;
     GreyImage l, r;
     if (toGrey(left, 16, &l) || toGrey(right, 16, &r)) continue;
     if (checkPairSizes(l, r, left_info, right_info)) continue;

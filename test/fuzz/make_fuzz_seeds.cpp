@@ -1,7 +1,7 @@
 // Writes the seed corpus of the fuzz targets: a few valid inputs per target
 // (and one near-miss each) in the record format of bounded_message.hpp.
 //   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed,image_flow,surface_motion_flow,
-//                                                 surface_input}/seed_*
+//                                                 surface_input,dense_depth_pair}/seed_*
 // Deterministic (fixed seeds): rerunning it rewrites the same files.
 #include "bounded_message.hpp"
 #include "synthetic_frames.hpp"
@@ -289,6 +289,7 @@ int main(int argc, char** argv) {
   landmarks(out + "/landmarks");
   imu(out + "/imu");
   imagePairs(out + "/image_pair");
+  imagePairs(out + "/dense_depth_pair");  // DenseDepthNodelet takes the same pair
   compressed(out + "/compressed");
   imageFlow(out + "/image_flow");
   surfaceMotionFlows(out + "/surface_motion_flow");

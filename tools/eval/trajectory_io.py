@@ -7,7 +7,8 @@
     q_RS (w x y z), ...: the body pose, moved to the left camera with the
     camera's T_BS (T_W_cam = T_W_B T_BS);
   * T_BS: an ASL sensor.yaml (its T_BS.data) or 16 comma-separated numbers;
-  * PLY: the ascii vertex list hapi_eskf exports (x y z first).
+  * PLY (ascii or binary): the vertex list hapi_eskf exports, hapi_surface's
+    meshes (vertices with a projected value, triangle faces).
 """
 import numpy as np
 import yaml
@@ -102,18 +103,91 @@ def read_trajectory(path, t_bs=None):
     return read_tum(path)
 
 
-def read_ply_points(path):
+_PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
+              "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
+              "float": "f4", "float32": "f4", "double": "f8", "float64": "f8"}
+
+
+def _ply_header(f, path):
+    """(format, [(element, count, [(property, dtype or ('list', count dtype, item dtype))])])."""
+    if f.readline().strip() != b"ply":
+        raise ValueError(f"{path}: not a PLY file")
+    fmt, elements = None, []
+    while True:
+        line = f.readline()
+        if not line:
+            raise ValueError(f"{path}: PLY header not terminated")
+        w = line.decode("ascii", "replace").split()
+        if not w or w[0] in ("comment", "obj_info"):
+            continue
+        if w[0] == "end_header":
+            return fmt, elements
+        if w[0] == "format":
+            fmt = w[1]
+        elif w[0] == "element":
+            elements.append((w[1], int(w[2]), []))
+        elif w[0] == "property" and elements:
+            if w[1] == "list":
+                elements[-1][2].append((w[4], ("list", _PLY_TYPES[w[2]], _PLY_TYPES[w[3]])))
+            else:
+                elements[-1][2].append((w[2], _PLY_TYPES[w[1]]))
+        else:
+            raise ValueError(f"{path}: unexpected PLY header line {line!r}")
+
+
+def _ply_binary_element(data, pos, count, props, endian):
+    """({property: array}, position after the element) of one binary element."""
+    if all(not isinstance(t, tuple) for _, t in props):
+        dt = np.dtype([(name, endian + t) for name, t in props])
+        rows = np.frombuffer(data, dtype=dt, count=count, offset=pos)
+        return {name: rows[name].astype(float) for name, _ in props}, pos + count * dt.itemsize
+    out = {name: [] for name, _ in props}
+    for _ in range(count):  # lists (faces): row by row
+        for name, t in props:
+            if isinstance(t, tuple):
+                n = int(np.frombuffer(data, endian + t[1], 1, pos)[0])
+                pos += np.dtype(t[1]).itemsize
+                out[name].append(np.frombuffer(data, endian + t[2], n, pos).astype(np.int64))
+                pos += n * np.dtype(t[2]).itemsize
+            else:
+                out[name].append(float(np.frombuffer(data, endian + t, 1, pos)[0]))
+                pos += np.dtype(t).itemsize
+    return out, pos
+
+
+def read_ply(path):
+    """{element: {property: values}} of an ascii or binary PLY file; list
+    properties (faces' vertex_indices) as lists of index arrays."""
     with open(path, "rb") as f:
-        header = []
-        while True:
-            line = f.readline().decode("ascii", "replace").strip()
-            if not line:
-                raise ValueError(f"{path}: PLY header not terminated")
-            header.append(line)
-            if line == "end_header":
-                break
-        if "format ascii 1.0" not in header:
-            raise ValueError(f"{path}: only ascii PLY is read")
-        n = next(int(h.split()[2]) for h in header if h.startswith("element vertex"))
-        pts = [list(map(float, f.readline().split()[:3])) for _ in range(n)]
-    return np.array(pts).reshape(-1, 3)
+        fmt, elements = _ply_header(f, path)
+        data = f.read()
+    result = {}
+    if fmt == "ascii":
+        tokens, pos = data.split(), 0
+        for name, count, props in elements:
+            out = {p: [] for p, _ in props}
+            for _ in range(count):
+                for p, t in props:
+                    if isinstance(t, tuple):
+                        n = int(tokens[pos])
+                        out[p].append(np.array([int(x) for x in tokens[pos + 1:pos + 1 + n]]))
+                        pos += 1 + n
+                    else:
+                        out[p].append(float(tokens[pos]))
+                        pos += 1
+            result[name] = out
+        return result
+    if fmt not in ("binary_little_endian", "binary_big_endian"):
+        raise ValueError(f"{path}: unknown PLY format {fmt!r}")
+    endian, pos = "<" if fmt == "binary_little_endian" else ">", 0
+    for name, count, props in elements:
+        result[name], pos = _ply_binary_element(data, pos, count, props, endian)
+    return result
+
+
+def read_ply_points(path):
+    """(N, 3) vertex positions of a PLY file."""
+    v = read_ply(path).get("vertex")
+    if not v or any(k not in v for k in "xyz"):
+        raise ValueError(f"{path}: PLY has no vertex x, y, z")
+    return np.column_stack([np.asarray(v[k], dtype=float) for k in "xyz"]).reshape(-1, 3)

@@ -4,6 +4,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace hapi_dataset {
 
@@ -20,17 +21,19 @@ sensor_msgs::CameraInfo toCameraInfoMsg(const CameraInfoData& d, const std_msgs:
   return m;
 }
 
-sensor_msgs::Image toImageMsg(const cv::Mat& mono, const std_msgs::Header& h) {
+sensor_msgs::Image toImageMsg(const cv::Mat& image, const std_msgs::Header& h) {
+  if (image.type() != CV_8UC1 && image.type() != CV_32FC1)
+    throw std::invalid_argument("toImageMsg: the image must be CV_8UC1 or CV_32FC1");
   sensor_msgs::Image m;
   m.header = h;
-  m.height = mono.rows;
-  m.width = mono.cols;
-  m.encoding = "mono8";
+  m.height = image.rows;
+  m.width = image.cols;
+  m.encoding = image.type() == CV_8UC1 ? "mono8" : "32FC1";
   m.is_bigendian = 0;
-  m.step = mono.cols;
-  m.data.resize(static_cast<size_t>(mono.rows) * mono.cols);
-  for (int r = 0; r < mono.rows; ++r)
-    std::copy(mono.ptr<uint8_t>(r), mono.ptr<uint8_t>(r) + mono.cols, m.data.begin() + static_cast<size_t>(r) * mono.cols);
+  m.step = static_cast<uint32_t>(image.cols * image.elemSize());
+  m.data.resize(static_cast<size_t>(m.step) * image.rows);
+  for (int r = 0; r < image.rows; ++r)
+    std::copy(image.ptr<uint8_t>(r), image.ptr<uint8_t>(r) + m.step, m.data.begin() + static_cast<size_t>(r) * m.step);
   return m;
 }
 

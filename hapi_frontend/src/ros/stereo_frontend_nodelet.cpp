@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <sstream>
 
@@ -32,10 +33,7 @@ StereoFrontendNodelet::~StereoFrontendNodelet() {
   // Stop the inputs first: unsubscribing waits for running callbacks, so
   // none can touch the mailbox while the members below are destroyed.
   diag_timer_.stop();
-  left_sub_.unsubscribe();
-  right_sub_.unsubscribe();
-  left_info_sub_.unsubscribe();
-  right_info_sub_.unsubscribe();
+  input_.shutdown();
   mailbox_.close();  // wakes the worker, which then returns
   if (worker_.joinable()) worker_.join();
 }
@@ -65,54 +63,26 @@ void StereoFrontendNodelet::onInit() {
   pub_ = pnh.advertise<hapi_msgs::StereoLandmarks>("landmarks", 10);
   worker_ = std::thread(&StereoFrontendNodelet::workerLoop, this);
 
-  const uint32_t q = static_cast<uint32_t>(params_.queue_size);
-  left_info_sub_.subscribe(nh, "left/camera_info", q);
-  right_info_sub_.subscribe(nh, "right/camera_info", q);
-  if (params_.approximate_sync) {
-    // No max-interval limit in the policy: pairs beyond the slop reach the
-    // callback and are rejected there, so they are counted and logged.
-    approx_sync_ = std::make_unique<message_filters::Synchronizer<ApproxPolicy>>(
-        ApproxPolicy(q), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
-    approx_sync_->registerCallback(&StereoFrontendNodelet::onSynced, this);
-  } else {
-    exact_sync_ = std::make_unique<message_filters::Synchronizer<ExactPolicy>>(
-        ExactPolicy(q), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
-    exact_sync_->registerCallback(&StereoFrontendNodelet::onSynced, this);
-    exact_sync_->registerDropCallback(&StereoFrontendNodelet::onExactDrop, this);
-  }
+  // No max-interval limit in the approximate policy: pairs beyond the slop
+  // reach onSynced and are rejected there, so they are counted and logged.
+  using namespace std::placeholders;
+  input_.synchronise(nh, params_.queue_size, params_.approximate_sync,
+                     std::bind(&StereoFrontendNodelet::onSynced, this, _1, _2, _3, _4),
+                     std::bind(&StereoFrontendNodelet::onExactDrop, this, _1, _2, _3, _4));
 
   NODELET_INFO(
-      "stereo front end: detector %s%s, N=%d, %s sync (queue %d), transport '%s'; inputs %s %s %s %s -> %s",
+      "stereo front end: detector %s%s, N=%d, %s sync (queue %d), transport '%s'; inputs %s -> %s",
       params_.pipeline.detector.c_str(), params_.pipeline.use_gpu ? " (GPU requested)" : "",
       params_.pipeline.landmarks_per_frame, params_.approximate_sync ? "approximate" : "exact", params_.queue_size,
-      params_.image_transport.c_str(), left_sub_.getTopic().c_str(), left_info_sub_.getTopic().c_str(),
-      right_sub_.getTopic().c_str(), right_info_sub_.getTopic().c_str(), pub_.getTopic().c_str());
+      params_.image_transport.c_str(), input_.topics().c_str(), pub_.getTopic().c_str());
 }
 
 bool StereoFrontendNodelet::subscribeImages(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
-  const uint32_t q = static_cast<uint32_t>(params_.queue_size);
-  it_ = std::make_unique<image_transport::ImageTransport>(nh);
-  // The hint reads ~image_transport (already validated), so "compressed"
-  // subscribes to <image>/compressed through the plugin.
-  const image_transport::TransportHints hints(params_.image_transport, ros::TransportHints(), pnh);
-  try {
-    // Resolve (and so remap) the base topics here: a transport plugin
-    // subscribes to "<base>/compressed", a name the nodelet's remapping of
-    // left/image_raw does not match, so with an unresolved base the compressed
-    // front end listened on /left/image_raw/compressed whatever the launch file
-    // remapped (frontend_inputs.test caught it).
-    left_sub_.subscribe(*it_, nh.resolveName("left/image_raw"), q, hints);
-    right_sub_.subscribe(*it_, nh.resolveName("right/image_raw"), q, hints);
-  } catch (const std::exception& ex) {
-    // pluginlib throws when the transport plugin is not installed (Debian
-    // ships only "raw"; "compressed" needs compressed_image_transport).
-    left_sub_.unsubscribe();
-    right_sub_.unsubscribe();
-    startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(),
-                    "image transport '" + params_.image_transport + "' unavailable", {ex.what()});
-    return false;
-  }
-  return true;
+  const std::string why = input_.subscribeImages(nh, pnh, params_.image_transport, params_.queue_size);
+  if (why.empty()) return true;
+  startup_.refuse(getNodeHandle(), getPrivateNodeHandle(), getName(),
+                  "image transport '" + params_.image_transport + "' unavailable", {why});
+  return false;
 }
 
 void StereoFrontendNodelet::startDiagnostics() {

@@ -17,18 +17,13 @@
 #include "frontend_diagnostics.hpp"
 #include "frontend_params.hpp"
 #include "reason_throttle.hpp"
+#include "stereo_pair_input.hpp"
 #include "hapi_frontend/stereo_pipeline.hpp"
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <hapi_nodelet_kit/mailbox.hpp>
 #include <hapi_nodelet_kit/stamp_guard.hpp>
 #include <hapi_nodelet_kit/startup_failure.hpp>
-#include <image_transport/image_transport.h>
-#include <image_transport/subscriber_filter.h>
-#include <message_filters/subscriber.h>
-#include <message_filters/sync_policies/approximate_time.h>
-#include <message_filters/sync_policies/exact_time.h>
-#include <message_filters/synchronizer.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -47,10 +42,7 @@ class StereoFrontendNodelet : public nodelet::Nodelet {
   ~StereoFrontendNodelet() override;
 
  private:
-  using Image = sensor_msgs::Image;
   using Info = sensor_msgs::CameraInfo;
-  using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Info, Image, Info>;
-  using ApproxPolicy = message_filters::sync_policies::ApproximateTime<Image, Info, Image, Info>;
 
   struct Frame {
     sensor_msgs::ImageConstPtr left, right;
@@ -83,11 +75,7 @@ class StereoFrontendNodelet : public nodelet::Nodelet {
   ros::WallTimer diag_timer_;
   ros::Publisher pub_;
 
-  std::unique_ptr<image_transport::ImageTransport> it_;
-  image_transport::SubscriberFilter left_sub_, right_sub_;
-  message_filters::Subscriber<Info> left_info_sub_, right_info_sub_;
-  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
-  std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
+  StereoPairInput input_;
 
   // Stamp order of the synchronised callback (~time_jump_reset).
   std::unique_ptr<hapi_nodelet_kit::StampGuard> stamp_guard_;

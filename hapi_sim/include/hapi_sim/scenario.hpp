@@ -26,6 +26,7 @@
 #include "hapi_sim/image_formation.hpp"
 #include "hapi_sim/imu_model.hpp"
 #include "hapi_sim/motion.hpp"
+#include "hapi_sim/perfusion_pattern.hpp"
 #include "hapi_sim/realism.hpp"
 #include "hapi_sim/scene.hpp"
 #include "hapi_sim/surface_motion_truth.hpp"
@@ -35,6 +36,12 @@ namespace hapi_sim {
 
 enum class SceneKind { Globe, Skin, Patch };
 bool parseSceneKind(const std::string& name, SceneKind* kind);
+
+// What the imaging camera records: the scene's texture through the same
+// image formation as the stereo pair (mono8), or the known perfusion
+// pattern of the skin (perfusion_pattern.hpp; 32FC1 in PU).
+enum class ImagingContent { Texture, Perfusion };
+bool parseImagingContent(const std::string& name, ImagingContent* content);
 
 // First stamp of every simulated recording: fixed, never wall time.
 constexpr int64_t kSimEpochNs = 1000000000LL * 1000000000LL;
@@ -58,6 +65,7 @@ struct ScenarioConfig {
   double imaging_rate = 0.0;  // Hz, the imaging camera's frame rate (0: no imaging stream)
   // px, the imaging camera's surface-motion pixel; negative: the image centre.
   Eigen::Vector2d imaging_pixel = Eigen::Vector2d(-1.0, -1.0);
+  ImagingContent imaging_content = ImagingContent::Texture;
   double stage_speed = kDefaultStageSpeed;  // m/s, the stage trajectory's speed
   // "" when valid, else what is wrong (one rule for every front end).
   std::string validate() const;
@@ -114,9 +122,13 @@ class Scenario {
 
   // Frame k's images (mono8), deterministic per (seed, k).
   void renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const;
-  // Imaging frame j (mono8): the left camera's image formation at its time,
-  // deterministic per (seed, j).
+  // Imaging frame j: texture content (mono8) the left camera's image
+  // formation at its time, deterministic per (seed, j); perfusion content
+  // (32FC1, PU) the pattern at the mid-exposure pose.
   cv::Mat renderImaging(int64_t j) const;
+  // The imaging camera's perfusion pattern (its truth; defined for every
+  // scene, rendered only with ImagingContent::Perfusion).
+  const PerfusionPattern& perfusionPattern() const { return perfusion_pattern_; }
   // A fresh IMU sample stream (call measure() in sample order).
   ImuModel makeImuModel() const;
 
@@ -139,6 +151,8 @@ class Scenario {
   ExposureModel exposure_;
   SensorNoise sensor_;
   std::unique_ptr<SceneRenderer> ren_l_, ren_r_;
+  PerfusionPattern perfusion_pattern_;
+  std::unique_ptr<PerfusionRenderer> perfusion_;  // with ImagingContent::Perfusion only
   int64_t frame_ns_ = 0, imu_ns_ = 0, n_frames_ = 0, n_imu_ = 0, imaging_ns_ = 0, n_imaging_ = 0;
 
   // The left camera's sub-frame poses in the scene over the exposure around t.

@@ -152,7 +152,10 @@ void AslWriter::addImu(int64_t i, const ImuReading& r) {
 void AslWriter::addImaging(int64_t j, const cv::Mat& image) {
   const std::string stamp = std::to_string(kSimEpochNs + s_.imagingStampNs(j));
   const std::string path = mav_ + "/cam_imaging/data/" + stamp + ".png";
-  if (!cv::imwrite(path, image)) throw std::runtime_error("cannot write " + path);
+  // Perfusion content (32FC1, PU): a mono16 PNG of the PU rounded (PNG has no float).
+  cv::Mat png = image;
+  if (image.depth() == CV_32F) image.convertTo(png, CV_16U);
+  if (!cv::imwrite(path, png)) throw std::runtime_error("cannot write " + path);
   cam_imaging_ << stamp << "," << stamp << ".png\n";
 }
 

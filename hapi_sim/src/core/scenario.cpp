@@ -58,6 +58,12 @@ bool parseSceneKind(const std::string& name, SceneKind* kind) {
   return false;
 }
 
+bool parseImagingContent(const std::string& name, ImagingContent* content) {
+  if (name == "texture") { *content = ImagingContent::Texture; return true; }
+  if (name == "perfusion") { *content = ImagingContent::Perfusion; return true; }
+  return false;
+}
+
 std::string ScenarioConfig::validate() const {
   if (!(duration > 0 && duration <= 3600)) return "duration must be in (0, 3600] s";
   if (!(rate > 0 && rate <= 100)) return "rate must be in (0, 100] Hz";
@@ -146,6 +152,9 @@ Scenario::Scenario(const ScenarioConfig& config)
   sensor_.enabled = config.image_noise;
   ren_l_ = std::make_unique<SceneRenderer>(*scene_, rig_.left);
   ren_r_ = std::make_unique<SceneRenderer>(*scene_, rig_.right);
+  perfusion_pattern_ = PerfusionPattern::forView(scene_->view());
+  if (cfg_.imaging_content == ImagingContent::Perfusion)
+    perfusion_ = std::make_unique<PerfusionRenderer>(*scene_, rig_.left, perfusion_pattern_);
   frame_ns_ = std::llround(1e9 / cfg_.rate);
   imu_ns_ = std::llround(1e9 / cfg_.imu_rate);
   n_frames_ = countAt(cfg_.duration, cfg_.rate);
@@ -195,6 +204,7 @@ void Scenario::renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const {
 
 cv::Mat Scenario::renderImaging(int64_t j) const {
   const double t = imagingTimeNs(j) * 1e-9;
+  if (cfg_.imaging_content == ImagingContent::Perfusion) return perfusion_->render(leftCameraInScene(t).pose());
   return sensor_.expose(ren_l_->radiance(exposurePoses(t)), gain(t),
                         mixSeed(cfg_.seed, static_cast<uint32_t>(j), kImagingCamera));
 }

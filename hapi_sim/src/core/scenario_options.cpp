@@ -29,6 +29,7 @@ const char* const kScenarioOptionsUsage =
     "  [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ] [--exposure-ms MS] [--blur-samples N]\n"
     "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]\n"
     "  [--realism ideal|real] [--imaging-rate HZ (0: none)] [--imaging-pixel U,V (default: the centre)]\n"
+    "  [--imaging-content texture|perfusion (default texture)]\n"
     "  [--stage-speed MM_S (stage; default 5)]";
 
 bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
@@ -63,6 +64,9 @@ bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfi
     if (!parseRealism(v, &cfg->realism)) throw std::invalid_argument("--realism must be ideal or real");
   } else if (k == "--imaging-rate") {
     cfg->imaging_rate = parseNumberArg(k, v);
+  } else if (k == "--imaging-content") {
+    if (!parseImagingContent(v, &cfg->imaging_content))
+      throw std::invalid_argument("--imaging-content must be texture or perfusion");
   } else if (k == "--imaging-pixel") {
     cfg->imaging_pixel = parsePixelArg(k, v);
   } else if (k == "--stage-speed") {

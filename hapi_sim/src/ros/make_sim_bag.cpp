@@ -8,6 +8,7 @@
 //                [--exposure-ms MS] [--blur-samples N] [--photometric 0|1]
 //                [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]
 //                [--realism ideal|real] [--imaging-rate HZ] [--imaging-pixel U,V] [--stage-speed MM_S]
+//                [--imaging-content texture|perfusion]
 //
 // Topics (frames as make_globe_bag's; every stamp from the fixed epoch 1e9 s):
 //   /stereo/{left,right}/image_raw, camera_info  camera clock (t_imu - time offset)
@@ -27,7 +28,9 @@
 //   /globe/info            (globe scene) latched, 1 Hz, as make_globe_bag
 // With --imaging-rate HZ > 0 (none by default: the bag is then as without it):
 //   /imaging/image_raw, camera_info  the imaging camera (the left camera at its own rate), mono8,
-//                          frame imaging_optical_frame, camera clock
+//                          frame imaging_optical_frame, camera clock; with --imaging-content
+//                          perfusion 32FC1: the skin's perfusion pattern in PU (perfusion_pattern.hpp)
+//   /ground_truth/perfusion  (--imaging-content perfusion) latched YAML of that pattern
 //   /tf_static             also stereo_left_optical_frame -> imaging_optical_frame (identity)
 //   /ground_truth/surface_motion  hapi_msgs/SurfaceMotion at IMU rate (true clock): the truth at
 //                          the imaging pixel, status RAY_MISSES_MAP when its ray misses the scene
@@ -149,6 +152,9 @@ int main(int argc, char** argv) {
     bag->write("/tf_static", t0, st, latchedHeader<tf2_msgs::TFMessage>(kCaller));
     bag->write("/ground_truth/scene", t0, text(sc.scene().yaml()), latchedHeader<std_msgs::String>(kCaller));
     bag->write("/ground_truth/calibration", t0, text(sc.calibrationYaml()), latchedHeader<std_msgs::String>(kCaller));
+    if (imaging && opt.cfg.imaging_content == ImagingContent::Perfusion)
+      bag->write("/ground_truth/perfusion", t0, text(sc.perfusionPattern().yaml()),
+                 latchedHeader<std_msgs::String>(kCaller));
     if (opt.cfg.realism != Realism::Ideal)
       bag->write("/calibration", t0, text(sc.believedCalibrationYaml()), latchedHeader<std_msgs::String>(kCaller));
   }

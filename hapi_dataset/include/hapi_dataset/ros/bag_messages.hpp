@@ -34,7 +34,9 @@ constexpr const char* kGt = "ground_truth/stereo_left_optical_frame";
 }  // namespace recording_frames
 
 sensor_msgs::CameraInfo toCameraInfoMsg(const CameraInfoData& d, const std_msgs::Header& h);
-sensor_msgs::Image toImageMsg(const cv::Mat& mono8, const std_msgs::Header& h);
+// A CV_8UC1 image as mono8, a CV_32FC1 one as 32FC1 (a depth image, the
+// simulator's perfusion pattern); other types throw std::invalid_argument.
+sensor_msgs::Image toImageMsg(const cv::Mat& image, const std_msgs::Header& h);
 geometry_msgs::TransformStamped toTransformMsg(const ros::Time& t, const std::string& parent, const std::string& child,
                                                const Eigen::Vector3d& p, const Eigen::Quaterniond& q);
 // Position and quaternion as they are (tf2::toMsg of an Isometry3d would go
