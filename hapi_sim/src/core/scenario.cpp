@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "hapi_sim/scenario.hpp"
+
+#include <opencv2/imgproc.hpp>
 #include "hapi_sim/text_format.hpp"
 
 namespace hapi_sim {
@@ -74,6 +76,8 @@ std::string ScenarioConfig::validate() const {
     return "imaging pixel must lie in the " + std::to_string(cam.width) + " x " + std::to_string(cam.height) +
            " image";
   if (!(stage_speed >= 0 && stage_speed <= 0.1)) return "stage speed must be in [0, 100] mm/s";
+  if (!(std::abs(right_shift_px) <= 20)) return "right image shift must be in [-20, 20] px";
+  if (!(std::abs(camera_clock_offset) <= 100)) return "camera clock offset must be in [-100, 100] s";
   return "";
 }
 
@@ -147,6 +151,7 @@ Scenario::Scenario(const ScenarioConfig& config)
   ren_l_ = std::make_unique<SceneRenderer>(*scene_, rig_.left);
   ren_r_ = std::make_unique<SceneRenderer>(*scene_, rig_.right);
   frame_ns_ = std::llround(1e9 / cfg_.rate);
+  clock_offset_ns_ = std::llround(1e9 * cfg_.camera_clock_offset);
   imu_ns_ = std::llround(1e9 / cfg_.imu_rate);
   n_frames_ = countAt(cfg_.duration, cfg_.rate);
   n_imu_ = static_cast<int64_t>(std::floor(cfg_.duration * cfg_.imu_rate + 1e-9));
@@ -191,6 +196,10 @@ void Scenario::renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const {
   const uint32_t frame = static_cast<uint32_t>(k);
   *left = sensor_.expose(ren_l_->radiance(pl), g, mixSeed(cfg_.seed, frame, 0));
   *right = sensor_.expose(ren_r_->radiance(pr), g * kRightGainRatio, mixSeed(cfg_.seed, frame, 1));
+  if (cfg_.right_shift_px != 0.0) {
+    const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 0, 0, 1, cfg_.right_shift_px);
+    cv::warpAffine(*right, *right, shift, right->size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  }
 }
 
 cv::Mat Scenario::renderImaging(int64_t j) const {

@@ -29,7 +29,9 @@ const char* const kScenarioOptionsUsage =
     "  [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ] [--exposure-ms MS] [--blur-samples N]\n"
     "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]\n"
     "  [--realism ideal|real] [--imaging-rate HZ (0: none)] [--imaging-pixel U,V (default: the centre)]\n"
-    "  [--stage-speed MM_S (stage; default 5)]";
+    "  [--stage-speed MM_S (stage; default 5)]\n"
+    "  [--right-shift-px PX (right image shifted down: bad rectification)]\n"
+    "  [--camera-clock-offset S (added to camera stamps: clocks that disagree)]";
 
 bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
   using hapi_dataset::parseFlagArg;
@@ -67,6 +69,10 @@ bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfi
     cfg->imaging_pixel = parsePixelArg(k, v);
   } else if (k == "--stage-speed") {
     cfg->stage_speed = 1e-3 * parseNumberArg(k, v);
+  } else if (k == "--right-shift-px") {
+    cfg->right_shift_px = parseNumberArg(k, v);
+  } else if (k == "--camera-clock-offset") {
+    cfg->camera_clock_offset = parseNumberArg(k, v);
   } else if (k == "--texture") {
     cfg->globe_texture = v;
   } else {

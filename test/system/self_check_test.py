@@ -1,0 +1,69 @@
+#!/usr/bin/python3
+"""rostest node: the self-checks on /diagnostics (docs/CALIBRATION.md
+"Self-checks") while a simulated bag with one thing broken plays.
+
+Parameters (~):
+  expect: list of "STATUS|KEY|LEVEL|TEXT": a DiagnosticStatus whose name
+          ends with STATUS must, at least once, have level >= LEVEL (1 WARN,
+          2 ERROR) and the value of KEY containing TEXT.
+  expect_quiet: list of STATUS: these statuses never go above OK once they
+          judged frames, and each reports at least ~min_reports times
+          (the unbroken recording: no false alarm).
+  timeout: wall seconds to wait (default 60).
+"""
+import sys
+import time
+import unittest
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+
+
+class SelfCheckTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("hapi_self_check_test")
+        cls.timeout = float(rospy.get_param("~timeout", 60.0))
+        cls.expect = [e.split("|") for e in rospy.get_param("~expect", [])]
+        cls.quiet = list(rospy.get_param("~expect_quiet", []))
+        cls.min_reports = int(rospy.get_param("~min_reports", 3))
+        cls.statuses = []  # (name, level, message, {key: value})
+        rospy.Subscriber("/diagnostics", DiagnosticArray, cls.on_diagnostics, queue_size=100)
+
+    @classmethod
+    def on_diagnostics(cls, msg):
+        for s in msg.status:
+            cls.statuses.append((s.name, s.level, s.message, {kv.key: kv.value for kv in s.values}))
+
+    def matching(self, status, key, level, text):
+        return [s for s in self.statuses
+                if s[0].endswith(status) and s[1] >= level and text in s[3].get(key, "")]
+
+    def test_self_checks(self):
+        end = time.time() + self.timeout
+        if self.expect:
+            while time.time() < end and not rospy.is_shutdown():
+                if all(self.matching(st, key, int(lvl), text) for st, key, lvl, text in self.expect):
+                    break
+                time.sleep(0.2)
+            for st, key, lvl, text in self.expect:
+                seen = sorted({"%s [%d] %s" % (s[0], s[1], s[3].get(key, "")) for s in self.statuses
+                               if s[0].endswith(st)})[-5:]
+                self.assertTrue(self.matching(st, key, int(lvl), text),
+                                "no '%s' %s >= %s containing '%s'; last seen: %s" % (st, key, lvl, text, seen))
+                rospy.loginfo("self-check seen: %s", self.matching(st, key, int(lvl), text)[0][2])
+        for st in self.quiet:
+            while time.time() < end and not rospy.is_shutdown():
+                judged = [s for s in self.statuses if s[0].endswith(st) and s[3].get("frames judged", "1") != "0"]
+                if len(judged) >= self.min_reports:
+                    break
+                time.sleep(0.2)
+            judged = [s for s in self.statuses if s[0].endswith(st)]
+            self.assertGreaterEqual(len(judged), self.min_reports, "too few '%s' reports" % st)
+            alarms = [(s[1], s[2]) for s in judged if s[1] > 0]
+            self.assertEqual(alarms, [], "false alarm of '%s'" % st)
+
+
+if __name__ == "__main__":
+    import rostest
+    rostest.rosrun("hapi_slam", "self_check_test", SelfCheckTest, sys.argv)
