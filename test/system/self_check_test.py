@@ -4,11 +4,12 @@
 
 Parameters (~):
   expect: list of "STATUS|KEY|LEVEL|TEXT": a DiagnosticStatus whose name
-          ends with STATUS must, at least once, have level >= LEVEL (1 WARN,
-          2 ERROR) and the value of KEY containing TEXT.
+          ends with STATUS must, at least once, have the value of KEY at
+          level >= LEVEL (1 WARN, 2 ERROR; the value starts with its level's
+          name) and containing TEXT.
   expect_quiet: list of STATUS: these statuses never go above OK once they
           judged frames, and each reports at least ~min_reports times
-          (the unbroken recording: no false alarm).
+          (the unbroken recording: no false alarm; default 4, the 4 s bag).
   timeout: wall seconds to wait (default 60).
 """
 import sys
@@ -26,7 +27,7 @@ class SelfCheckTest(unittest.TestCase):
         cls.timeout = float(rospy.get_param("~timeout", 60.0))
         cls.expect = [e.split("|") for e in rospy.get_param("~expect", [])]
         cls.quiet = list(rospy.get_param("~expect_quiet", []))
-        cls.min_reports = int(rospy.get_param("~min_reports", 3))
+        cls.min_reports = int(rospy.get_param("~min_reports", 4))
         cls.statuses = []  # (name, level, message, {key: value})
         rospy.Subscriber("/diagnostics", DiagnosticArray, cls.on_diagnostics, queue_size=100)
 
@@ -35,9 +36,13 @@ class SelfCheckTest(unittest.TestCase):
         for s in msg.status:
             cls.statuses.append((s.name, s.level, s.message, {kv.key: kv.value for kv in s.values}))
 
+    LEVELS = {"WARN": 1, "ERROR": 2}
+
     def matching(self, status, key, level, text):
-        return [s for s in self.statuses
-                if s[0].endswith(status) and s[1] >= level and text in s[3].get(key, "")]
+        def check_level(value):
+            return self.LEVELS.get(value.split(":", 1)[0], 0)
+        return [s for s in self.statuses if s[0].endswith(status) and s[1] >= level
+                and check_level(s[3].get(key, "")) >= level and text in s[3].get(key, "")]
 
     def test_self_checks(self):
         end = time.time() + self.timeout
@@ -51,7 +56,7 @@ class SelfCheckTest(unittest.TestCase):
                                if s[0].endswith(st)})[-5:]
                 self.assertTrue(self.matching(st, key, int(lvl), text),
                                 "no '%s' %s >= %s containing '%s'; last seen: %s" % (st, key, lvl, text, seen))
-                rospy.loginfo("self-check seen: %s", self.matching(st, key, int(lvl), text)[0][2])
+                print("self-check seen: %s" % (self.matching(st, key, int(lvl), text)[0][3],))
         for st in self.quiet:
             while time.time() < end and not rospy.is_shutdown():
                 judged = [s for s in self.statuses if s[0].endswith(st) and s[3].get("frames judged", "1") != "0"]
@@ -60,6 +65,7 @@ class SelfCheckTest(unittest.TestCase):
                 time.sleep(0.2)
             judged = [s for s in self.statuses if s[0].endswith(st)]
             self.assertGreaterEqual(len(judged), self.min_reports, "too few '%s' reports" % st)
+            print("%s, last report: %s" % (st, judged[-1][3] if judged else None))
             alarms = [(s[1], s[2]) for s in judged if s[1] > 0]
             self.assertEqual(alarms, [], "false alarm of '%s'" % st)
 

@@ -24,6 +24,11 @@ std::string format(const char* fmt, ...) {
   return buf;
 }
 
+// A check's value names its own level: the summary only shows the worst.
+std::string levelName(unsigned char level) {
+  return level == DiagnosticStatus::ERROR ? "ERROR" : level == DiagnosticStatus::WARN ? "WARN" : "OK";
+}
+
 double medianOf(std::vector<double> v) {
   if (v.empty()) return std::nan("");
   const size_t mid = v.size() / 2;
@@ -141,7 +146,7 @@ void SelfCheck::produce(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   unsigned char worst = DiagnosticStatus::OK;
   std::string summary = stats_.counters.frames_processed > 0 ? "tracking" : "initialising";
   for (const auto& [key, r] : checks) {
-    stat.add(key, r.message.empty() ? std::string("ok") : r.message);
+    stat.add(key, r.message.empty() ? std::string("ok") : levelName(r.level) + ": " + r.message);
     if (r.level > worst) {
       worst = r.level;
       summary = r.message;

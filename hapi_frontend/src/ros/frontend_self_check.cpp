@@ -52,7 +52,7 @@ void FrontendSelfCheck::produce(diagnostic_updater::DiagnosticStatusWrapper& sta
   std::string worst_msg = "stereo input fit for tracking";
   unsigned char worst = DiagnosticStatus::OK;
   auto check = [&](const char* key, bool failed, const std::string& msg) {
-    stat.add(key, failed ? msg : std::string("ok"));
+    stat.add(key, failed ? "WARN: " + msg : std::string("ok"));
     if (failed && worst == DiagnosticStatus::OK) {
       worst = DiagnosticStatus::WARN;
       worst_msg = msg;
