@@ -64,8 +64,10 @@ TEST(MotionBlur, SmearedImagesScoreHigherThanSharpOnesAtAnyContrastAndDirection)
     EXPECT_LT(motionBlur(sharp), 0.1) << contrast;
     EXPECT_LT(motionBlur(smear(sharp, 3, false)), 0.3) << contrast;
     for (bool diagonal : {false, true}) {
+      // config/frontend.yaml check_max_motion_blur: 0.4
+      EXPECT_GT(motionBlur(smear(sharp, 9, diagonal)), 0.4) << contrast << " " << diagonal;
       const double smeared = motionBlur(smear(sharp, 15, diagonal));
-      EXPECT_GT(smeared, 0.6) << contrast << " " << diagonal;  // config/frontend.yaml check_max_motion_blur
+      EXPECT_GT(smeared, 0.6) << contrast << " " << diagonal;
       EXPECT_LE(smeared, 1.0);
     }
   }

@@ -18,7 +18,7 @@ namespace hapi_frontend {
 
 struct SelfCheckThresholds {
   double max_vertical_disparity_px = 0.5;
-  double max_motion_blur = 0.6;
+  double max_motion_blur = 0.4;
   int min_landmarks = 30;
 };
 

@@ -192,10 +192,14 @@ int main(int argc, char** argv) {
             hl.frame_id = kLeft;
             hr.frame_id = kRight;
             hl.seq = hr.seq = static_cast<uint32_t>(k);
-            bag->write("/stereo/left/camera_info", stamp, toCameraInfoMsg(ci_l, hl));
-            bag->write("/stereo/right/camera_info", stamp, toCameraInfoMsg(ci_r, hr));
-            bag->write("/stereo/left/image_raw", stamp, toImageMsg(left, hl));
-            bag->write("/stereo/right/image_raw", stamp, toImageMsg(right, hr));
+            // Recorded when they arrive: a camera clock offset (--camera-clock-offset)
+            // changes the stamps only, as two disagreeing clocks do live.
+            const ros::Time arrival =
+                stampAt(sc.frameStampNs(k) - std::llround(1e9 * opt.cfg.camera_clock_offset));
+            bag->write("/stereo/left/camera_info", arrival, toCameraInfoMsg(ci_l, hl));
+            bag->write("/stereo/right/camera_info", arrival, toCameraInfoMsg(ci_r, hr));
+            bag->write("/stereo/left/image_raw", arrival, toImageMsg(left, hl));
+            bag->write("/stereo/right/image_raw", arrival, toImageMsg(right, hr));
           }
           if ((k + 1) % 10 == 0 || k + 1 == sc.frameCount())
             std::cerr << "[make_sim_bag] frame " << k + 1 << "/" << sc.frameCount() << "\n";
