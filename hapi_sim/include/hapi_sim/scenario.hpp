@@ -33,7 +33,7 @@
 
 namespace hapi_sim {
 
-enum class SceneKind { Globe, Skin, Patch };
+enum class SceneKind { Globe, Skin, Patch, Chessboard };
 bool parseSceneKind(const std::string& name, SceneKind* kind);
 
 // First stamp of every simulated recording: fixed, never wall time.

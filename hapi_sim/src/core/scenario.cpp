@@ -43,6 +43,7 @@ std::unique_ptr<Scene> makeScene(const ScenarioConfig& c) {
     case SceneKind::Globe: return makeGlobeSimScene(c.globe_texture);
     case SceneKind::Skin: return makeSkinScene();
     case SceneKind::Patch: return makePatchScene();
+    case SceneKind::Chessboard: return makeChessboardScene();
   }
   return nullptr;
 }
@@ -57,6 +58,7 @@ bool parseSceneKind(const std::string& name, SceneKind* kind) {
   if (name == "globe") { *kind = SceneKind::Globe; return true; }
   if (name == "skin") { *kind = SceneKind::Skin; return true; }
   if (name == "patch") { *kind = SceneKind::Patch; return true; }
+  if (name == "chessboard") { *kind = SceneKind::Chessboard; return true; }
   return false;
 }
 

@@ -24,8 +24,8 @@ Eigen::Vector2d parsePixelArg(const std::string& k, const std::string& v) {
 }  // namespace
 
 const char* const kScenarioOptionsUsage =
-    "--scene globe|skin|patch\n"
-    "  --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor\n"
+    "--scene globe|skin|patch|chessboard\n"
+    "  --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor|calibration\n"
     "  [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ] [--exposure-ms MS] [--blur-samples N]\n"
     "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]\n"
     "  [--realism ideal|real] [--imaging-rate HZ (0: none)] [--imaging-pixel U,V (default: the centre)]\n"
@@ -38,7 +38,7 @@ bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfi
   using hapi_dataset::parseIntegerArg;
   using hapi_dataset::parseNumberArg;
   if (k == "--scene") {
-    if (!parseSceneKind(v, &cfg->scene)) throw std::invalid_argument("--scene must be globe, skin or patch");
+    if (!parseSceneKind(v, &cfg->scene)) throw std::invalid_argument("--scene must be globe, skin, patch or chessboard");
   } else if (k == "--trajectory") {
     if (!parseTrajectoryKind(v, &cfg->trajectory)) throw std::invalid_argument("unknown --trajectory " + v);
   } else if (k == "--seed") {
