@@ -3,8 +3,9 @@
 // report and named with its number and likely cause (docs/CALIBRATION.md
 // "Self-checks"):
 //  check.clock           IMU stamps beyond ~imu_max_frame_offset of the image
-//                        stamps, or the online time-offset estimate beyond
-//                        ~check_max_time_offset: images and IMU not on one clock
+//                        stamps, or the online time-offset estimate moved
+//                        beyond ~check_max_time_offset_change from
+//                        imu_time_offset: images and IMU not on one clock
 //  check.imu             no IMU samples while landmarks arrive, or most of
 //                        them dropped (the dominant reason named): IMU not fused
 //  check.initialisation  not tracking after ~check_init_timeout, and why (no
