@@ -1,13 +1,14 @@
 // make_sim_bag: writes one scenario of the hand-held simulation suite
 // (docs/DESIGN.md "Data") to a rosbag and/or a EuRoC/ASL folder.
 //
-//   make_sim_bag --scene globe|skin|patch
-//                --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor
+//   make_sim_bag --scene globe|skin|patch|chessboard
+//                --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor|calibration
 //                [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]
 //                [--output FILE.bag] [--asl DIR]
 //                [--exposure-ms MS] [--blur-samples N] [--photometric 0|1]
 //                [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]
 //                [--realism ideal|real] [--imaging-rate HZ] [--imaging-pixel U,V] [--stage-speed MM_S]
+//                [--right-shift-px PX] [--camera-clock-offset S]
 //
 // Topics (frames as make_globe_bag's; every stamp from the fixed epoch 1e9 s):
 //   /stereo/{left,right}/image_raw, camera_info  camera clock (t_imu - time offset)
