@@ -14,6 +14,9 @@ HAPI_DEBIAN_PACKAGES=(
   libopencv-dev libeigen3-dev libgtest-dev googletest
   xplanet-images python3-numpy python3-yaml
   python3-matplotlib  # tools/eval plots (PNG)
+  # docs/CALIBRATION.md: cameracalibrator.py; its solver in test/system (the Python module's
+  # imports, which its Debian package does not declare: cv_bridge, image_geometry)
+  ros-camera-calibration python3-camera-calibration python3-cv-bridge python3-image-geometry
   python3-opencv  # tools/eval/motion_study.py: OpenCV's optical flow baselines (Farneback, DIS, pyramidal LK)
   libopenblas-dev  # hapi_eskf CPU backend: rank update and factorisations on OpenBLAS/LAPACK (cpu_linear_algebra.cpp)
   libmrpt-dev  # hapi_eskf_mrpt_bench: MRPT's EKF update side by side with the CPU backend (bench only, optional)

@@ -2,8 +2,11 @@
 // CameraInfo pair (stereo_calibration.hpp), on a synthetic rig with a known
 // rotation between the cameras and on EuRoC MH_01's published calibration.
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 
 #include "asl_fixture.hpp"
 #include "hapi_dataset/asl_sensor.hpp"
@@ -175,4 +178,67 @@ TEST(AslSensor, ImuSensorAndMalformedFiles) {
   // A camera file read as an IMU has a T_BS; an IMU file read as a camera has no model.
   EXPECT_THROW(hapi_dataset::readCameraSensor(dir + "/imu0/sensor.yaml"), std::runtime_error);
   EXPECT_THROW(hapi_dataset::readCameraSensor(dir + "/missing.yaml"), std::runtime_error);
+}
+
+// Kalibr's camchain-imucam.yaml (fixtures/kalibr: EuRoC MH_01's calibration
+// written in Kalibr's layout): the same rectified pair as the sensor.yaml
+// files, the IMU's pose and the time shift; broken files are refused.
+TEST(KalibrCamchain, GivesTheSameRigAsTheSensorFilesAndTheImuCalibration) {
+  const std::string dir = std::string(HAPI_DATASET_FIXTURES);
+  const CameraSensor l = hapi_dataset::readCameraSensor(dir + "/euroc_mh01/cam0/sensor.yaml");
+  const CameraSensor r = hapi_dataset::readCameraSensor(dir + "/euroc_mh01/cam1/sensor.yaml");
+  const hapi_dataset::KalibrCamchain k = hapi_dataset::readKalibrCamchain(dir + "/kalibr/camchain-imucam.yaml");
+  EXPECT_EQ(k.cam1.width, 752);
+  EXPECT_DOUBLE_EQ(k.cam1.fu, r.fu);
+  EXPECT_DOUBLE_EQ(k.cam0.distortion[0], l.distortion[0]);
+  EXPECT_TRUE(k.cam0.T_BS.isApprox(Eigen::Isometry3d::Identity()));
+  const StereoCalibration from_kalibr = hapi_dataset::rectifyStereo(k.cam0, k.cam1);
+  const StereoCalibration from_euroc = hapi_dataset::rectifyStereo(l, r);
+  EXPECT_NEAR(from_kalibr.baseline, from_euroc.baseline, 1e-9);
+  EXPECT_LT((mat3(from_kalibr.right.R) - mat3(from_euroc.right.R)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((mat34(from_kalibr.right.P) - mat34(from_euroc.right.P)).cwiseAbs().maxCoeff(), 1e-6);
+  ASSERT_TRUE(k.has_imu);
+  EXPECT_TRUE(k.T_cam_imu.isApprox(l.T_BS.inverse(), 1e-9));  // the IMU is EuRoC's body
+  EXPECT_DOUBLE_EQ(k.timeshift_cam_imu, 0.0022);
+}
+
+TEST(KalibrCamchain, RefusesAMonoChainAndANonRigidTransform) {
+  const std::string good = std::string(HAPI_DATASET_FIXTURES) + "/kalibr/camchain-imucam.yaml";
+  std::ifstream in(good);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string path = ::testing::TempDir() + "/camchain_broken.yaml";
+  auto write = [&](const std::string& s) { std::ofstream(path) << s; };
+  write(text.substr(0, text.find("cam1:")));  // cam0 only
+  EXPECT_THROW(hapi_dataset::readKalibrCamchain(path), std::runtime_error);
+  std::string scaled = text;  // cam0's T_cam_imu rotation scaled by 2 in its first row
+  scaled.replace(scaled.find("- [0.0148655429817943"), 21, "- [0.0297310859635886");
+  write(scaled);
+  EXPECT_THROW(hapi_dataset::readKalibrCamchain(path), std::runtime_error);
+  EXPECT_THROW(hapi_dataset::readKalibrCamchain(path + ".missing"), std::runtime_error);
+}
+
+// The CameraInfo YAML read back with OpenCV's YAML parser: every matrix
+// with its size and values.
+TEST(CameraInfoYaml, ReadsBackAsWritten) {
+  CameraInfoData info;
+  info.width = 752;
+  info.height = 480;
+  info.D = {-0.28, 0.07, 1e-4, -3.5e-5, 0.0};
+  info.K = {458.654, 0, 367.215, 0, 457.296, 248.375, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {436.2, 0, 364.4, -48.02, 0, 436.2, 256.1, 0, 0, 0, 1, 0};
+  const std::string yaml = "%YAML:1.0\n" + hapi_dataset::cameraInfoYaml(info, "right");
+  cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  ASSERT_TRUE(fs.isOpened());
+  EXPECT_EQ(static_cast<int>(fs["image_width"]), 752);
+  EXPECT_EQ(static_cast<std::string>(fs["camera_name"]), "right");
+  EXPECT_EQ(static_cast<std::string>(fs["distortion_model"]), "plumb_bob");
+  EXPECT_EQ(static_cast<int>(fs["projection_matrix"]["cols"]), 4);
+  std::vector<double> P, D;
+  fs["projection_matrix"]["data"] >> P;
+  fs["distortion_coefficients"]["data"] >> D;
+  ASSERT_EQ(P.size(), 12u);
+  for (int i = 0; i < 12; ++i) EXPECT_DOUBLE_EQ(P[i], info.P[i]) << i;
+  ASSERT_EQ(D.size(), 5u);
+  EXPECT_DOUBLE_EQ(D[3], -3.5e-5);
 }

@@ -109,6 +109,18 @@ class LaunchFilesTest(unittest.TestCase):
         self.assertNotEqual(ns["/stereo_frontend"].args.split()[2], ns["/eskf"].args.split()[2])
         self.assertIn("/rviz", ns)
 
+    def test_live(self):
+        ns = self.check_runnable(load("live.launch", "left_image:=/cam0/image_raw", "left_info:=/cam0/camera_info",
+                                      "right_image:=/cam1/image_raw", "right_info:=/cam1/camera_info",
+                                      "imu_topic:=/imu0", "approximate_sync:=true"))
+        self.assertEqual(set(ns), {"/hapi_manager", "/stereo_frontend", "/eskf"})
+        fe, be = ns["/stereo_frontend"], ns["/eskf"]
+        self.assertEqual(fe.args.split()[2], be.args.split()[2], "front and back end in the same manager")
+        self.assertEqual(remaps(fe)["~landmarks"], remaps(be)["~landmarks"])
+        fe_remaps = remaps(fe)
+        self.assertIn("/cam0/image_raw", fe_remaps.values())
+        self.assertIn("/cam1/camera_info", fe_remaps.values())
+
     def test_replay(self):
         cfg = load("replay.launch", "bag:=/data/globe.bag", "evaluate:=true", "eval_output:=/tmp/r.yaml",
                    "record_diagnostics:=/tmp/d.bag")

@@ -18,4 +18,8 @@ struct CameraInfoData {
   std::array<double, 12> P{};
 };
 
+// The CameraInfo YAML that camera_calibration_parsers reads (a driver's
+// camera_info_url) and cameracalibrator.py writes.
+std::string cameraInfoYaml(const CameraInfoData& info, const std::string& camera_name);
+
 }  // namespace hapi_dataset

@@ -55,6 +55,7 @@ void EskfNodelet::onInit() {
   if (params_.usesImu() || !params_.base_frame.empty())
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   stats_ = std::make_unique<ros_glue::NodeletStatistics>(params_.usesImu());
+  self_check_ = std::make_unique<ros_glue::SelfCheck>(params_, *stats_);
   if (params_.usesImu()) imu_ = std::make_unique<ros_glue::ImuInput>(params_, *tf_buffer_, *stats_, getName());
 
   // Topics are relative to the nodelet's namespace/name: a nodelet named
@@ -79,6 +80,7 @@ void EskfNodelet::onInit() {
   updater_->add(kStatusName, [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stats_->diagnose(stat, mailbox_.dropped(), landmarks_in_.resubscriptions() + imu_in_.resubscriptions());
   });
+  updater_->add(kSelfCheckName, self_check_.get(), &ros_glue::SelfCheck::produce);
   diag_timer_ = nh.createWallTimer(ros::WallDuration(params_.diagnostics_period),
                                    [this](const ros::WallTimerEvent&) { updater_->force_update(); });
   map_timer_ = nh.createWallTimer(ros::WallDuration(1.0 / params_.map_publish_rate),
@@ -415,6 +417,7 @@ bool EskfNodelet::process(Work& w) {
     NODELET_WARN_THROTTLE(1.0, "update skipped at %.3f (innovation covariance not PD): prediction only", stamp);
   }
   stats_->recordFrame(rep, backend_->numLandmarks(), backend_->memoryBytes());
+  self_check_->frameMeasured(static_cast<int>(w.frame.measurements.size()));
   PoseBlockState pose_block;
   if (backend_->poseBlockState(&pose_block)) {
     stats_->recordCalibration(calibrationEstimate(calibrationLayout(params_.filter), pose_block));

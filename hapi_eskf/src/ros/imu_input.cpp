@@ -43,6 +43,7 @@ std::optional<TimedImuSample> ImuInput::accept(const sensor_msgs::Imu& msg) {
   tf2::fromMsg(msg.angular_velocity, w);
   tf2::fromMsg(msg.linear_acceleration, f);
   const double stamp = msg.header.stamp.toSec();
+  ++c.imu_received;
   if (!w.allFinite() || !f.allFinite() || !std::isfinite(stamp)) {
     count(c.imu_invalid);
     ROS_ERROR_THROTTLE_NAMED(2.0, log_name_,
@@ -65,6 +66,7 @@ std::optional<TimedImuSample> ImuInput::accept(const sensor_msgs::Imu& msg) {
   }
   if (std::abs(sample.stamp - newest_frame_stamp_) > params_.imu_max_frame_offset) {
     count(c.imu_far_from_frames);
+    stats_.imu_frame_offset = sample.stamp - newest_frame_stamp_;
     ROS_ERROR_THROTTLE_NAMED(2.0, log_name_,
                              "dropping IMU sample at %.3f s: %.3f s from the newest image stamp "
                              "(~imu_max_frame_offset; clocks not synchronised?)",

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,11 @@ struct StereoFrameResult {
   DescriptorType descriptor_type = DescriptorType::ORB;
   int n_left = 0, n_right = 0, n_matches = 0;  // before the N-strongest cut
   int n_refine_rejected = 0;                  // matches dropped by the sub-pixel refinement
+  // Self-check measures (image_quality.hpp), NaN when not measurable: the
+  // median vertical disparity of the kept landmarks [px] and the left
+  // image's motion blur.
+  double vertical_disparity_px = std::numeric_limits<double>::quiet_NaN();
+  double motion_blur = std::numeric_limits<double>::quiet_NaN();
   StageTimesMs times;
   bool used_gpu = false;
 };

@@ -4,6 +4,8 @@
 // exception.
 #include "hapi_frontend/stereo_pipeline.hpp"
 
+#include "hapi_frontend/image_quality.hpp"
+
 #include "hapi_frontend/cpu_stereo_matcher.hpp"
 #include "hapi_frontend/mmse_triangulator.hpp"
 #include "hapi_frontend/opencv_extractors.hpp"
@@ -233,6 +235,11 @@ std::string StereoPipeline::process(const cv::Mat& left_in, const cv::Mat& right
       std::memcpy(out->descriptors.ptr(static_cast<int>(i)), fl.descriptors.ptr(kept_left[i]), bytes);
     out->times.refine = refine_ms;
     out->times.triangulate = msSince(t0) - refine_ms;
+    std::vector<double> offsets;
+    offsets.reserve(out->landmarks.size());
+    for (const StereoLandmarkOut& lm : out->landmarks) offsets.push_back(epipolarOffset(m.F, lm.uv_left, lm.uv_right));
+    out->vertical_disparity_px = median(std::move(offsets));
+    out->motion_blur = motionBlur(m.grey_l);
     out->times.total = msSince(t_all);
   } catch (const std::exception& ex) {
     // OpenCV may throw on pathological input (e.g. a corrupt Mat header); the

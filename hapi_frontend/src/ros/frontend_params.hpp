@@ -8,6 +8,7 @@
 #pragma once
 
 #include "hapi_frontend/param_spec.hpp"
+#include "frontend_self_check.hpp"
 #include "hapi_frontend/stereo_pipeline.hpp"
 
 #include <hapi_nodelet_kit/param_reader.hpp>
@@ -24,6 +25,7 @@ struct FrontendNodeletParams {
   double approx_slop = 0.005;         // [s] max |t_left - t_right| accepted in approximate mode
   std::string image_transport = "raw";  // raw | compressed | ... (image_transport plugin)
   int mono16_bits = 16;               // significant bits of mono16 input (12-bit cameras: 12)
+  SelfCheckThresholds self_check;     // check_*: the self-checks' thresholds
   // [s] StampGuard: a stamp further back than this is a time jump (bag loop).
   double time_jump_reset = hapi_nodelet_kit::TimeJumpResetParam::kDefault;
 

@@ -55,6 +55,7 @@ void StereoFrontendNodelet::onInit() {
                            {ex.what()});
   }
   stamp_guard_ = std::make_unique<hapi_nodelet_kit::StampGuard>(params_.time_jump_reset);
+  self_check_ = std::make_unique<FrontendSelfCheck>(params_.self_check);
   if (!subscribeImages(nh, pnh)) return;
 
   // Nothing can fail from here on. (The manager runs none of this nodelet's
@@ -89,6 +90,7 @@ void StereoFrontendNodelet::startDiagnostics() {
   updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), getPrivateNodeHandle(), getName());
   updater_->setHardwareID(kHardwareId);
   updater_->add(kStatusName, &diag_, &FrontendDiagnostics::produce);
+  updater_->add(kSelfCheckName, self_check_.get(), &FrontendSelfCheck::produce);
   // Wall timer + force_update: diagnostics keep flowing when simulated time
   // pauses or jumps backwards (bag loops).
   diag_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(std::max(0.1, updater_->getPeriod())),
@@ -203,6 +205,7 @@ void StereoFrontendNodelet::processFrame(const Frame& f) {
   const std::string bad = fillLandmarksMsg(result, header, msg.get());
   if (!bad.empty()) return reject("internal_error", bad);
   diag_.frameProcessed(result);
+  self_check_->frameProcessed(result);
   pub_.publish(msg);  // shared pointer: zero-copy to nodelets in the same manager
   diag_.landmarksPublished((ros::Time::now() - header.stamp).toSec());
 }

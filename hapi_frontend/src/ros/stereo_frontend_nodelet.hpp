@@ -15,6 +15,7 @@
 #pragma once
 
 #include "frontend_diagnostics.hpp"
+#include "frontend_self_check.hpp"
 #include "frontend_params.hpp"
 #include "reason_throttle.hpp"
 #include "stereo_pair_input.hpp"
@@ -66,11 +67,13 @@ class StereoFrontendNodelet : public nodelet::Nodelet {
   // The diagnostic task's name, shared by the running and the refusing node.
   static constexpr const char* kStatusName = "stereo front end";
   static constexpr const char* kHardwareId = "stereo_frontend";
+  static constexpr const char* kSelfCheckName = "stereo front end self-check";
 
   FrontendNodeletParams params_;
   std::unique_ptr<StereoPipeline> pipeline_;
   hapi_nodelet_kit::StartupFailure startup_{kStatusName, kHardwareId};
   FrontendDiagnostics diag_;
+  std::unique_ptr<FrontendSelfCheck> self_check_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::WallTimer diag_timer_;
   ros::Publisher pub_;

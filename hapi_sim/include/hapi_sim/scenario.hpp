@@ -34,7 +34,7 @@
 
 namespace hapi_sim {
 
-enum class SceneKind { Globe, Skin, Patch };
+enum class SceneKind { Globe, Skin, Patch, Chessboard };
 bool parseSceneKind(const std::string& name, SceneKind* kind);
 
 // What the imaging camera records: the scene's texture through the same
@@ -67,6 +67,13 @@ struct ScenarioConfig {
   Eigen::Vector2d imaging_pixel = Eigen::Vector2d(-1.0, -1.0);
   ImagingContent imaging_content = ImagingContent::Texture;
   double stage_speed = kDefaultStageSpeed;  // m/s, the stage trajectory's speed
+  // Broken set-ups, for the self-check tests (0: none): the right image
+  // shifted down by this many pixels after rendering (a stereo calibration
+  // gone wrong), and this offset added to every camera stamp (images and IMU
+  // stamped by clocks that disagree; the truth and /ground_truth keep the
+  // true time).
+  double right_shift_px = 0.0;
+  double camera_clock_offset = 0.0;  // s
   // "" when valid, else what is wrong (one rule for every front end).
   std::string validate() const;
 };
@@ -100,13 +107,13 @@ class Scenario {
   int64_t frameCount() const { return n_frames_; }
   int64_t imuCount() const { return n_imu_; }
   int64_t frameTimeNs(int64_t k) const { return k * frame_ns_; }                     // true (IMU clock)
-  int64_t frameStampNs(int64_t k) const { return k * frame_ns_ - calib_.time_offset_ns; }  // camera clock
+  int64_t frameStampNs(int64_t k) const { return k * frame_ns_ - calib_.time_offset_ns + clock_offset_ns_; }  // camera clock
   int64_t imuTimeNs(int64_t i) const { return i * imu_ns_; }
   // The imaging camera: the stereo left camera (same intrinsics, same pose:
   // its frame is the left optical frame), frames at imaging_rate.
   int64_t imagingCount() const { return n_imaging_; }
   int64_t imagingTimeNs(int64_t j) const { return j * imaging_ns_; }                      // true (IMU clock)
-  int64_t imagingStampNs(int64_t j) const { return j * imaging_ns_ - calib_.time_offset_ns; }  // camera clock
+  int64_t imagingStampNs(int64_t j) const { return j * imaging_ns_ - calib_.time_offset_ns + clock_offset_ns_; }  // camera clock
   const CameraModel& imagingCamera() const { return rig_.left; }
   CameraInfoData imagingInfo() const { return rig_.leftInfo(); }
   Eigen::Vector2d imagingPixel() const;
@@ -154,6 +161,7 @@ class Scenario {
   PerfusionPattern perfusion_pattern_;
   std::unique_ptr<PerfusionRenderer> perfusion_;  // with ImagingContent::Perfusion only
   int64_t frame_ns_ = 0, imu_ns_ = 0, n_frames_ = 0, n_imu_ = 0, imaging_ns_ = 0, n_imaging_ = 0;
+  int64_t clock_offset_ns_ = 0;  // ScenarioConfig::camera_clock_offset
 
   // The left camera's sub-frame poses in the scene over the exposure around t.
   std::vector<Pose> exposurePoses(double t) const;

@@ -77,6 +77,12 @@ std::unique_ptr<Scene> makeSkinScene();
 // along +x (the seen point moves to -x on the patch).
 constexpr double kPatchHalfExtent = 0.4, kPatchOffset = 0.15;  // m
 std::unique_ptr<Scene> makePatchScene();
+// A chessboard calibration target on the plane z = 0 (scene_chessboard.cpp):
+// kChessboardCols x kChessboardRows inner corners, squares of
+// kChessboardSquare, framed from 50 cm.
+constexpr int kChessboardCols = 8, kChessboardRows = 6;
+constexpr double kChessboardSquare = 0.03;  // m
+std::unique_ptr<Scene> makeChessboardScene();
 
 // Procedural textures (one deterministic field each; texel size in metres).
 cv::Mat makeSkinTexture(int width, int height, double texel);

@@ -27,7 +27,7 @@
 
 namespace hapi_sim {
 
-enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest, Orbit, Measurement, MeasurementSubject, Stage, Tremor };
+enum class TrajectoryKind { Smooth, Handheld, Fast, Loop, Subject, Rest, Orbit, Measurement, MeasurementSubject, Stage, Tremor, Calibration };
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind);
 std::string trajectoryName(TrajectoryKind kind);
 
@@ -74,6 +74,9 @@ std::unique_ptr<RigidMotion> makeHandheldTrajectory(const ViewGeometry& view, ui
 std::unique_ptr<RigidMotion> makeFastTrajectory(const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeLoopTrajectory(const ViewGeometry& view, uint32_t seed);
 std::unique_ptr<RigidMotion> makeOrbitTrajectory(const ViewGeometry& view);
+// Calibration: the views a camera calibration needs of a planar target at
+// the view centre (trajectory_calibration.cpp).
+std::unique_ptr<RigidMotion> makeCalibrationTrajectory(const ViewGeometry& view);
 // Subject motion: the device held still (tremor only, no sway; without
 // tremor: on a stand) ...
 std::unique_ptr<RigidMotion> makeStillTrajectory(const ViewGeometry& view, uint32_t seed, bool tremor = true);

@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "hapi_sim/scenario.hpp"
+
+#include <opencv2/imgproc.hpp>
 #include "hapi_sim/text_format.hpp"
 
 namespace hapi_sim {
@@ -41,6 +43,7 @@ std::unique_ptr<Scene> makeScene(const ScenarioConfig& c) {
     case SceneKind::Globe: return makeGlobeSimScene(c.globe_texture);
     case SceneKind::Skin: return makeSkinScene();
     case SceneKind::Patch: return makePatchScene();
+    case SceneKind::Chessboard: return makeChessboardScene();
   }
   return nullptr;
 }
@@ -55,6 +58,7 @@ bool parseSceneKind(const std::string& name, SceneKind* kind) {
   if (name == "globe") { *kind = SceneKind::Globe; return true; }
   if (name == "skin") { *kind = SceneKind::Skin; return true; }
   if (name == "patch") { *kind = SceneKind::Patch; return true; }
+  if (name == "chessboard") { *kind = SceneKind::Chessboard; return true; }
   return false;
 }
 
@@ -80,6 +84,8 @@ std::string ScenarioConfig::validate() const {
     return "imaging pixel must lie in the " + std::to_string(cam.width) + " x " + std::to_string(cam.height) +
            " image";
   if (!(stage_speed >= 0 && stage_speed <= 0.1)) return "stage speed must be in [0, 100] mm/s";
+  if (!(std::abs(right_shift_px) <= 20)) return "right image shift must be in [-20, 20] px";
+  if (!(std::abs(camera_clock_offset) <= 100)) return "camera clock offset must be in [-100, 100] s";
   return "";
 }
 
@@ -156,6 +162,7 @@ Scenario::Scenario(const ScenarioConfig& config)
   if (cfg_.imaging_content == ImagingContent::Perfusion)
     perfusion_ = std::make_unique<PerfusionRenderer>(*scene_, rig_.left, perfusion_pattern_);
   frame_ns_ = std::llround(1e9 / cfg_.rate);
+  clock_offset_ns_ = std::llround(1e9 * cfg_.camera_clock_offset);
   imu_ns_ = std::llround(1e9 / cfg_.imu_rate);
   n_frames_ = countAt(cfg_.duration, cfg_.rate);
   n_imu_ = static_cast<int64_t>(std::floor(cfg_.duration * cfg_.imu_rate + 1e-9));
@@ -200,6 +207,10 @@ void Scenario::renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const {
   const uint32_t frame = static_cast<uint32_t>(k);
   *left = sensor_.expose(ren_l_->radiance(pl), g, mixSeed(cfg_.seed, frame, 0));
   *right = sensor_.expose(ren_r_->radiance(pr), g * kRightGainRatio, mixSeed(cfg_.seed, frame, 1));
+  if (cfg_.right_shift_px != 0.0) {
+    const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 0, 0, 1, cfg_.right_shift_px);
+    cv::warpAffine(*right, *right, shift, right->size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  }
 }
 
 cv::Mat Scenario::renderImaging(int64_t j) const {

@@ -24,20 +24,22 @@ Eigen::Vector2d parsePixelArg(const std::string& k, const std::string& v) {
 }  // namespace
 
 const char* const kScenarioOptionsUsage =
-    "--scene globe|skin|patch\n"
-    "  --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor\n"
+    "--scene globe|skin|patch|chessboard\n"
+    "  --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor|calibration\n"
     "  [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ] [--exposure-ms MS] [--blur-samples N]\n"
     "  [--photometric 0|1] [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]\n"
     "  [--realism ideal|real] [--imaging-rate HZ (0: none)] [--imaging-pixel U,V (default: the centre)]\n"
     "  [--imaging-content texture|perfusion (default texture)]\n"
-    "  [--stage-speed MM_S (stage; default 5)]";
+    "  [--stage-speed MM_S (stage; default 5)]\n"
+    "  [--right-shift-px PX (right image shifted down: bad rectification)]\n"
+    "  [--camera-clock-offset S (added to camera stamps: clocks that disagree)]";
 
 bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
   using hapi_dataset::parseFlagArg;
   using hapi_dataset::parseIntegerArg;
   using hapi_dataset::parseNumberArg;
   if (k == "--scene") {
-    if (!parseSceneKind(v, &cfg->scene)) throw std::invalid_argument("--scene must be globe, skin or patch");
+    if (!parseSceneKind(v, &cfg->scene)) throw std::invalid_argument("--scene must be globe, skin, patch or chessboard");
   } else if (k == "--trajectory") {
     if (!parseTrajectoryKind(v, &cfg->trajectory)) throw std::invalid_argument("unknown --trajectory " + v);
   } else if (k == "--seed") {
@@ -71,6 +73,10 @@ bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfi
     cfg->imaging_pixel = parsePixelArg(k, v);
   } else if (k == "--stage-speed") {
     cfg->stage_speed = 1e-3 * parseNumberArg(k, v);
+  } else if (k == "--right-shift-px") {
+    cfg->right_shift_px = parseNumberArg(k, v);
+  } else if (k == "--camera-clock-offset") {
+    cfg->camera_clock_offset = parseNumberArg(k, v);
   } else if (k == "--texture") {
     cfg->globe_texture = v;
   } else {

@@ -6,9 +6,9 @@ namespace hapi_sim {
 namespace {
 const char* const kNames[] = {"smooth", "handheld", "fast",        "loop",                "subject",
                               "rest",   "orbit",    "measurement", "measurement_subject", "stage",
-                              "tremor"};
+                              "tremor", "calibration"};
 constexpr int kCount = sizeof(kNames) / sizeof(kNames[0]);
-static_assert(kCount == static_cast<int>(TrajectoryKind::Tremor) + 1, "one name per kind");
+static_assert(kCount == static_cast<int>(TrajectoryKind::Calibration) + 1, "one name per kind");
 }
 
 bool parseTrajectoryKind(const std::string& name, TrajectoryKind* kind) {
@@ -32,6 +32,7 @@ std::unique_ptr<RigidMotion> makeDeviceMotion(TrajectoryKind kind, const ViewGeo
     case TrajectoryKind::MeasurementSubject: return makeStillTrajectory(view, seed);
     case TrajectoryKind::Stage: return makeStillTrajectory(view, seed, false);
     case TrajectoryKind::Tremor: return makeStillTrajectory(view, seed);
+    case TrajectoryKind::Calibration: return makeCalibrationTrajectory(view);
   }
   return nullptr;
 }

@@ -1,14 +1,15 @@
 // make_sim_bag: writes one scenario of the hand-held simulation suite
 // (docs/DESIGN.md "Data") to a rosbag and/or a EuRoC/ASL folder.
 //
-//   make_sim_bag --scene globe|skin|patch
-//                --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor
+//   make_sim_bag --scene globe|skin|patch|chessboard
+//                --trajectory smooth|handheld|fast|loop|subject|rest|orbit|measurement|measurement_subject|stage|tremor|calibration
 //                [--seed N] [--duration S] [--rate HZ] [--imu-rate HZ]
 //                [--output FILE.bag] [--asl DIR]
 //                [--exposure-ms MS] [--blur-samples N] [--photometric 0|1]
 //                [--image-noise 0|1] [--imu-noise 0|1] [--image-scale S] [--texture PATH]
 //                [--realism ideal|real] [--imaging-rate HZ] [--imaging-pixel U,V] [--stage-speed MM_S]
 //                [--imaging-content texture|perfusion]
+//                [--right-shift-px PX] [--camera-clock-offset S]
 //
 // Topics (frames as make_globe_bag's; every stamp from the fixed epoch 1e9 s):
 //   /stereo/{left,right}/image_raw, camera_info  camera clock (t_imu - time offset)
@@ -198,10 +199,14 @@ int main(int argc, char** argv) {
             hl.frame_id = kLeft;
             hr.frame_id = kRight;
             hl.seq = hr.seq = static_cast<uint32_t>(k);
-            bag->write("/stereo/left/camera_info", stamp, toCameraInfoMsg(ci_l, hl));
-            bag->write("/stereo/right/camera_info", stamp, toCameraInfoMsg(ci_r, hr));
-            bag->write("/stereo/left/image_raw", stamp, toImageMsg(left, hl));
-            bag->write("/stereo/right/image_raw", stamp, toImageMsg(right, hr));
+            // Recorded when they arrive: a camera clock offset (--camera-clock-offset)
+            // changes the stamps only, as two disagreeing clocks do live.
+            const ros::Time arrival =
+                stampAt(sc.frameStampNs(k) - std::llround(1e9 * opt.cfg.camera_clock_offset));
+            bag->write("/stereo/left/camera_info", arrival, toCameraInfoMsg(ci_l, hl));
+            bag->write("/stereo/right/camera_info", arrival, toCameraInfoMsg(ci_r, hr));
+            bag->write("/stereo/left/image_raw", arrival, toImageMsg(left, hl));
+            bag->write("/stereo/right/image_raw", arrival, toImageMsg(right, hr));
           }
           if ((k + 1) % 10 == 0 || k + 1 == sc.frameCount())
             std::cerr << "[make_sim_bag] frame " << k + 1 << "/" << sc.frameCount() << "\n";

@@ -9,6 +9,7 @@
 //   GraphRefiner       ~refine: batch refinement of the run (graph_refiner.hpp)
 //   ImuInput           ~use_imu: sample checks, mounting rotation, buffer (imu_input.hpp)
 //   NodeletStatistics  counters, stage timings, /diagnostics (statistics.hpp)
+//   SelfCheck          the self-checks of clock, IMU, start and landmarks (self_check.hpp)
 //
 // Start-up: ~ parameters are read and checked once (params.hpp); an invalid
 // one, a ~backend_algorithm not built into the library, or ~backend=cuda
@@ -46,6 +47,7 @@
 #include "hapi_eskf/ros/map_publisher.hpp"
 #include "hapi_eskf/ros/output_publisher.hpp"
 #include "hapi_eskf/ros/params.hpp"
+#include "hapi_eskf/ros/self_check.hpp"
 #include "hapi_eskf/ros/statistics.hpp"
 #include "hapi_eskf/ros/trajectory_recorder.hpp"
 #include "hapi_eskf/ros/validation.hpp"
@@ -82,6 +84,7 @@ class EskfNodelet : public nodelet::Nodelet {
   // that reports a start-up failure.
   static constexpr const char* kStatusName = "filter";
   static constexpr const char* kHardwareId = "hapi_eskf";
+  static constexpr const char* kSelfCheckName = "self-check";
 
   struct Work {
     StereoFrame frame;
@@ -118,6 +121,7 @@ class EskfNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
 
   std::unique_ptr<ros_glue::NodeletStatistics> stats_;
+  std::unique_ptr<ros_glue::SelfCheck> self_check_;
   std::unique_ptr<ros_glue::ImuInput> imu_;  // ~use_imu only
   std::unique_ptr<ros_glue::OutputPublisher> output_;
   std::unique_ptr<ros_glue::TrajectoryRecorder> trajectory_;

@@ -39,7 +39,7 @@ class NodeletStatistics {
     Counter resets{0}, time_jumps{0}, update_skips{0}, filter_errors{0};
     Counter backend_faults{0};  // Status::kBackendError in a frame (a CUDA call failed)
     Counter relocalisations{0}, frames_relocalising{0};
-    Counter imu_used{0}, imu_dropped{0};
+    Counter imu_received{0}, imu_used{0}, imu_dropped{0};
     // Drops by reason (their sum is imu_dropped) and gaps (samples kept).
     Counter imu_invalid{0}, imu_saturated{0}, imu_before_frames{0}, imu_far_from_frames{0}, imu_no_extrinsic{0},
         imu_out_of_order{0}, imu_overflow{0}, imu_rejected_by_filter{0};
@@ -56,6 +56,9 @@ class NodeletStatistics {
   explicit NodeletStatistics(bool use_imu);
 
   Counters counters;
+  // The newest IMU sample's stamp minus the newest image stamp when a sample
+  // was dropped as too far from the frames [s] (the self-check's number).
+  std::atomic<double> imu_frame_offset{0.0};
 
   // --- worker thread ---
   // A frame the filter used: its stage timings and the pool after it.
@@ -64,6 +67,10 @@ class NodeletStatistics {
   void recordFilterError(const std::string& what);
   // The online calibration after a frame (calibration_block.hpp).
   void recordCalibration(const CalibrationEstimate& c);
+  CalibrationEstimate calibration() {
+    std::lock_guard<std::mutex> lk(mu_);
+    return calibration_;
+  }
   // The IMU's in-situ noise densities the prediction uses (imu_noise_estimator.hpp).
   void recordImuNoise(const ImuNoiseDensity& n);
   // The filter stopped for good (reported as ERROR from now on).
