@@ -6,14 +6,22 @@ waved in front of the simulated stereo rig (make_sim_bag --scene chessboard
 python3-camera-calibration), and its result against the simulator's true
 intrinsics and baseline (the bag's CameraInfo).
 
-  calibration_chessboard_test.py BAG
+  calibration_chessboard_test.py BAG [SCENE_BAG]
 
 Bounds: focal lengths within 1 %, principal point within 3 px, baseline
-within 2 %, the right camera's rotation within 0.5 deg. Exit 0 pass, 1 fail,
-77 skip (camera_calibration not installed).
+within 2 %, the right camera's rotation within 0.5 deg. With SCENE_BAG (a
+recording of the same simulated rig), the pipeline then runs on it twice,
+offline as tools/eval/accuracy.py does (frontend_replay, eskf_replay with
+the inertial model): once with the recording's true CameraInfo, once with
+the calibration's in its place. Its ATE with the calibration must be
+within MAX_ATE_RATIO of the ATE with the truth, plus MAX_ATE_EXTRA_PCT
+(absolute). Exit 0 pass, 1 fail, 77 skip (camera_calibration not
+installed).
 """
 import math
+import os
 import sys
+import tempfile
 
 import numpy as np
 
@@ -24,9 +32,14 @@ except ImportError as e:
     sys.exit(77)
 import rosbag
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "eval"))
+import accuracy  # noqa: E402
+
 # hapi_sim/include/hapi_sim/scene.hpp: kChessboardCols, kChessboardRows, kChessboardSquare.
 COLS, ROWS, SQUARE = 8, 6, 0.03
 MAX_F_REL, MAX_C_PX, MAX_BASELINE_REL, MAX_ROT_DEG = 0.01, 3.0, 0.02, 0.5
+MAX_ATE_RATIO, MAX_ATE_EXTRA_PCT = 1.5, 0.05
+CAMERA_INFO = {"/stereo/left/camera_info": 0, "/stereo/right/camera_info": 1}
 
 
 def mono(msg):
@@ -48,6 +61,36 @@ def read(bag_path):
                 info[topic.split("/")[2]] = msg
     stamps = sorted(set(left) & set(right))
     return [left[s] for s in stamps], [right[s] for s in stamps], info
+
+
+def with_calibration(scene_bag, calibrated, out_bag):
+    """A copy of scene_bag whose stereo CameraInfo is the calibration's
+    (left, right: cameracalibrator.py's messages), headers kept."""
+    with rosbag.Bag(scene_bag) as src, rosbag.Bag(out_bag, "w") as dst:
+        for topic, msg, t in src.read_messages():
+            if topic in CAMERA_INFO:
+                c = calibrated[CAMERA_INFO[topic]]
+                msg.distortion_model, msg.D, msg.K, msg.R, msg.P = c.distortion_model, c.D, c.K, c.R, c.P
+            dst.write(topic, msg, t)
+
+
+def pipeline_ate(bag, name, work):
+    """ATE % of the offline pipeline (inertial) on one bag, against its truth."""
+    log = os.path.join(work, "pipeline.log")
+    txt = accuracy.landmark_stream(bag, name, [], work, log)
+    (row,) = accuracy.score_stream(name, bag, txt, ["inertial"], 1, work, log, [])
+    if row["diverged"] or row["metrics"] is None:
+        return float("inf")
+    return 100.0 * row["metrics"]["ate_fraction_of_distance"]
+
+
+def check_pipeline(calibrator, scene_bag, check):
+    with tempfile.TemporaryDirectory() as work:
+        calibrated_bag = os.path.join(work, "calibrated.bag")
+        with_calibration(scene_bag, calibrator.as_message(), calibrated_bag)
+        ate_true = pipeline_ate(scene_bag, "true_calibration", work)
+        ate_cal = pipeline_ate(calibrated_bag, "calibrated", work)
+    check("ATE % (calibrated)", ate_cal, ate_true, (MAX_ATE_RATIO - 1.0) * ate_true + MAX_ATE_EXTRA_PCT)
 
 
 def main():
@@ -80,6 +123,8 @@ def main():
     angle = math.degrees(math.acos(max(-1.0, min(1.0, (np.trace(R_err) - 1) / 2))))
     check("rotation error [deg]", angle, 0.0, MAX_ROT_DEG)
     print("%d stereo pairs" % len(limages))
+    if len(sys.argv) > 2:
+        check_pipeline(calibrator, sys.argv[2], check)
     if failures:
         print("FAILED: " + ", ".join(failures))
         return 1
