@@ -147,7 +147,9 @@ TEST(FrameErrorBlock, ShippedForTheImuModelsOfTheEskf) {
   EskfSettings s;  // as shipped
   s.motion_model = MotionModelKind::kInertial;
   EXPECT_TRUE(frameErrorModelled(s));
-  // The shipped inertial filter also estimates its time offset (1 row).
+  // The shipped inertial filter estimates no calibration (motion_settings.def).
+  EXPECT_EQ(filterPoseDim(s), kInertialDim + kFrameErrorDim);
+  s.calib_cam_timeoffset = true;
   EXPECT_EQ(filterPoseDim(s), kInertialDim + kCalibTimeOffsetDim + kFrameErrorDim);
   s.motion_model = MotionModelKind::kGyro;
   EXPECT_TRUE(frameErrorModelled(s));
