@@ -9,7 +9,14 @@
 #   * the further metrics of tools/eval/run_analysis.py (Sim(3) ATE, rotation
 #     error, RPE over 1 s, NEES, velocity error) and PNG plots next to the
 #     report (tools/eval/plots.py: trajectory.png, error_over_time.png, nees.png);
-#   * per-stage timing of the front end and the back end, from /diagnostics.
+#   * per-stage timing of the front end and the back end, from /diagnostics;
+#   * the 3D surface (hapi_surface, unless surface:=false): mesh.ply (the
+#     SurfaceNodelet's ~save_surface at the end of the run) and mesh.png next
+#     to the report, with its RMS / 95th percentile distance to the true
+#     surface, completeness, the perfusion pattern's registration error (a
+#     bag made with --imaging-content perfusion) and the keyframes fused
+#     (tools/eval/surface_run.py). A scene's depth range and volume come from
+#     dense_depth_config:= / surface_config:= (config/*_globe.yaml: the demo).
 #
 #   scripts/run_pipeline.sh BAG [ARG:=VALUE ...]
 #                                        (after `source <ws>/devel/setup.bash`,
@@ -90,7 +97,7 @@ REPORT="$RUN_DIR/report.yaml"
 DIAG="$RUN_DIR/diagnostics.bag"
 LOG="$RUN_DIR/pipeline.log"
 rm -f "$REPORT" "$DIAG" "$DIAG.active" "$RUN_DIR"/{trajectory,error_over_time,nees}.png \
-  "$RUN_DIR"/{estimate,ground_truth}.tum "$RUN_DIR/estimate_covariance.txt"
+  "$RUN_DIR"/{estimate,ground_truth}.tum "$RUN_DIR/estimate_covariance.txt" "$RUN_DIR"/mesh.{ply,png}
 : >"$LOG"
 
 export ROS_HOME="${ROS_HOME:-$WS/ros_home}"

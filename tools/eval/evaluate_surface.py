@@ -45,6 +45,12 @@ def pose_matrix(p, q_xyzw):
     return T
 
 
+def camera_from_info(msg):
+    """(fx, fy, cx, cy, width, height) of a sensor_msgs/CameraInfo: the pinhole
+    that completeness casts its rays through."""
+    return (msg.K[0], msg.K[4], msg.K[2], msg.K[5], msg.width, msg.height)
+
+
 def every_nth_in_time(stamps, rate):
     """Indices of the keyframes a gate of `rate` Hz takes (the first, then the
     first at least 1/rate later): DenseDepthKeyframeGate's rule."""
@@ -72,7 +78,7 @@ def truth_from_bag(path):
                 stamps.append(m.header.stamp.to_sec())
                 poses.append(pose_matrix([p.x, p.y, p.z], [o.x, o.y, o.z, o.w]))
             elif topic == "/stereo/left/camera_info" and camera is None:
-                camera = (m.K[0], m.K[4], m.K[2], m.K[5], m.width, m.height)
+                camera = camera_from_info(m)
     if surfaces is None:
         raise ValueError(f"{path} has no /ground_truth/scene")
     return surfaces, pattern, stamps, poses, camera
