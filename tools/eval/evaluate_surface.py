@@ -93,7 +93,7 @@ def main(argv=None):
     ap.add_argument("--trajectory", help="TUM trajectory of the left camera in world (ground truth)")
     ap.add_argument("--camera", help="fx,fy,cx,cy,width,height of the left camera")
     ap.add_argument("--keyframe-rate", type=float, default=2.0, help="Hz, keyframes counted for 'seen' (default 2)")
-    ap.add_argument("--depth-range", default="0.15,0.5", help="m, near,far of the depth keyframes")
+    ap.add_argument("--depth-range", default="%g,%g" % sm.DEFAULT_DEPTH_RANGE, help="m, near,far of the depth keyframes")
     ap.add_argument("--value-property", default="value", help="PLY vertex property of the projected value")
     ap.add_argument("--t-world-mesh", help="16 comma-separated numbers: the mesh frame in world")
     ap.add_argument("--json", help="write the figures here too")

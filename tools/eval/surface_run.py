@@ -10,8 +10,8 @@ frame by the same rigid alignment as the ATE and the map error
 trajectory is not counted as a surface error, as it is not in the map error.
 Completeness counts the true surface seen by the left camera at the ground-
 truth poses at the dense depth's keyframe rate (its ~rate parameter) and in
-its depth range (~min_depth, ~max_depth, when set; else evaluate_surface's
-defaults, the nodelet's).
+the depth range that both the dense depth and the surface fuse
+(keyframe_settings).
 """
 import os
 
@@ -19,7 +19,6 @@ import numpy as np
 import rospy
 from sensor_msgs.msg import CameraInfo
 from std_msgs.msg import String
-from visualization_msgs.msg import Marker
 
 import evaluate_surface
 import render_mesh
@@ -36,6 +35,7 @@ class SurfaceCollector:
         self.srv_type = SaveSurface
         self.service = rospy.get_param("~surface_service", "/surface/save_surface")
         self.depth_ns = rospy.get_param("~dense_depth_ns", "/dense_depth")
+        self.surface_ns = self.service.rsplit("/", 1)[0]
         self.perfusion_text = None
         self.camera = None
         rospy.Subscriber(rospy.get_param("~perfusion_topic", "/ground_truth/perfusion"), String,
@@ -47,10 +47,16 @@ class SurfaceCollector:
         self.mesh_messages, self.mesh_triangles = 0, 0
         mesh_topic = rospy.get_param("~surface_mesh_topic", "")
         if mesh_topic:
-            rospy.Subscriber(mesh_topic, Marker, self.on_mesh, queue_size=1)
+            rospy.Subscriber(mesh_topic, rospy.AnyMsg, self.on_mesh, queue_size=1)
 
-    def on_mesh(self, msg):
-        if msg.type == Marker.TRIANGLE_LIST and msg.points:
+    def on_mesh(self, raw):
+        """visualization_msgs/Marker, decoded from the definition the publisher
+        sends (Debian ships no Python visualization_msgs)."""
+        import genpy.dynamic
+        header = raw._connection_header
+        cls = genpy.dynamic.generate_dynamic(header["type"], header["message_definition"])[header["type"]]
+        msg = cls().deserialize(raw._buff)
+        if msg.type == cls.TRIANGLE_LIST and msg.points:
             self.mesh_messages += 1
             self.mesh_triangles = len(msg.points) // 3
 
@@ -73,10 +79,18 @@ class SurfaceCollector:
         return {"mesh": os.path.basename(path), "vertices": int(r.vertices), "faces": int(r.faces)}
 
     def keyframe_settings(self):
-        """(keyframe rate [Hz], (near, far) [m] or None) of the dense depth."""
+        """(keyframe rate [Hz], (near, far) [m] or None): the dense depth's
+        rate, and the depth range both the dense depth and the surface fuse
+        (the narrower of the two where a profile sets them; None: neither
+        does, evaluate_surface's default, the nodelets' defaults)."""
         rate = float(rospy.get_param(self.depth_ns + "/rate", 2.0))
-        near, far = (rospy.get_param(self.depth_ns + "/" + k, None) for k in ("min_depth", "max_depth"))
-        return rate, ((float(near), float(far)) if near is not None and far is not None else None)
+        nodes = (self.depth_ns, self.surface_ns)
+        near = [float(rospy.get_param(n + "/min_depth")) for n in nodes if rospy.has_param(n + "/min_depth")]
+        far = [float(rospy.get_param(n + "/max_depth")) for n in nodes if rospy.has_param(n + "/max_depth")]
+        if not near and not far:
+            return rate, None
+        default_near, default_far = surface_metrics.DEFAULT_DEPTH_RANGE
+        return rate, (max(near + [default_near]), min(far + [default_far]))
 
     def score(self, path, alignment, surfaces, gt):
         """The truth's figures of the saved mesh (surface_metrics.evaluate_surface)."""
