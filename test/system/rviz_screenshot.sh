@@ -161,12 +161,14 @@ if [ "${HAPI_SHOT_MESH:-1}" = 1 ]; then
   if ! grep -Eq '^ \* /rviz' "$OUT/mesh_info.out"; then
     echo "[rviz-shot] FAIL: rviz is not subscribed to /surface/mesh (see $OUT/mesh_info.out)" >&2; mesh_rc=1
   elif ! timeout 30 /usr/bin/python3 -c "
-import rospy, sys
-from visualization_msgs.msg import Marker
+import genpy.dynamic, rospy, sys
 rospy.init_node('rviz_shot_mesh', anonymous=True)
-m = rospy.wait_for_message('/surface/mesh', Marker, timeout=25)
+raw = rospy.wait_for_message('/surface/mesh', rospy.AnyMsg, timeout=25)  # no Python visualization_msgs in Debian
+h = raw._connection_header
+cls = genpy.dynamic.generate_dynamic(h['type'], h['message_definition'])[h['type']]
+m = cls().deserialize(raw._buff)
 print('mesh marker: type %d, %d triangles, frame %s' % (m.type, len(m.points) // 3, m.header.frame_id))
-sys.exit(0 if m.type == Marker.TRIANGLE_LIST and m.points else 1)" >"$OUT/mesh.out" 2>&1; then
+sys.exit(0 if m.type == cls.TRIANGLE_LIST and m.points else 1)" >"$OUT/mesh.out" 2>&1; then
     echo "[rviz-shot] FAIL: no mesh with triangles on /surface/mesh (see $OUT/mesh.out)" >&2; mesh_rc=1
   else
     echo "[rviz-shot] $(tail -n1 "$OUT/mesh.out"), shown by rviz's /surface/mesh display"

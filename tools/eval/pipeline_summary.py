@@ -156,6 +156,8 @@ def print_surface(sf):
     if not sf:
         return
     kf = f"{sf['keyframes_fused']} keyframes fused" if "keyframes_fused" in sf else "keyframes unknown"
+    if "depth_keyframes_published" in sf:
+        kf += f" of {sf['depth_keyframes_published']} depth keyframes"
     if "error" in sf:
         print(f"surface               : not saved ({sf['error']}; {kf})")
         return

@@ -120,6 +120,9 @@ class SurfaceCollector:
             os.remove(path)  # an old run's mesh must never be scored as this one's
         rep = self.save(path, timeout)
         status = next((v for k, v in diag.items() if k.split(":")[-1].strip() == "surface"), {})
+        depth = next((v for k, v in diag.items() if k.split(":")[-1].strip() == "dense depth"), {})
+        if "published" in depth:  # the depth keyframes that crossed the robot-server link
+            rep["depth_keyframes_published"] = int(float(depth["published"]))
         for key, name in (("keyframes", "keyframes_fused"), ("keyframes stored", "keyframes_stored"),
                           ("imaging projected", "imaging_frames_projected"), ("integration", "integration")):
             if key in status:
