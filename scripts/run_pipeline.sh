@@ -79,7 +79,10 @@ missing=()
 # `rosrun nodelet declared_nodelets` lists nothing without an initialised rosdep.
 declared="$(rospack plugins --attrib=plugin nodelet 2>/dev/null | while read -r _ xml; do
   [ -f "$xml" ] && sed -nE 's/.*<class[^>]* name="([^"]+)".*/\1/p' "$xml"; done || true)"
-for n in hapi_frontend/StereoFrontendNodelet hapi_eskf/EskfNodelet; do
+needed=(hapi_frontend/StereoFrontendNodelet hapi_eskf/EskfNodelet)
+printf '%s\n' "${LAUNCH_ARGS[@]}" | grep -qx "dense_depth:=false" || needed+=(hapi_surface/DenseDepthNodelet)
+printf '%s\n' "${LAUNCH_ARGS[@]}" | grep -qx "surface:=false" || needed+=(hapi_surface/SurfaceNodelet)
+for n in "${needed[@]}"; do
   grep -qx "$n" <<<"$declared" || missing+=("nodelet $n (not declared/built)")
 done
 for f in launch/robot.launch launch/server.launch launch/all_in_one.launch launch/replay.launch \
