@@ -23,4 +23,7 @@ if [ ! -s "$BAG" ]; then
 fi
 rosbag info "$BAG"
 
-exec bash "$REPO/scripts/run_pipeline.sh" "$BAG"
+# The globe's depth range and surface volume (config/*_globe.yaml; the
+# nodelets' defaults are the skin scan's).
+exec bash "$REPO/scripts/run_pipeline.sh" "$BAG" dense_depth_config:="$REPO/config/dense_depth_globe.yaml" \
+  surface_config:="$REPO/config/surface_globe.yaml"

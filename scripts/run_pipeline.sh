@@ -9,7 +9,14 @@
 #   * the further metrics of tools/eval/run_analysis.py (Sim(3) ATE, rotation
 #     error, RPE over 1 s, NEES, velocity error) and PNG plots next to the
 #     report (tools/eval/plots.py: trajectory.png, error_over_time.png, nees.png);
-#   * per-stage timing of the front end and the back end, from /diagnostics.
+#   * per-stage timing of the front end and the back end, from /diagnostics;
+#   * the 3D surface (hapi_surface, unless surface:=false): mesh.ply (the
+#     SurfaceNodelet's ~save_surface at the end of the run) and mesh.png next
+#     to the report, with its RMS / 95th percentile distance to the true
+#     surface, completeness, the perfusion pattern's registration error (a
+#     bag made with --imaging-content perfusion) and the keyframes fused
+#     (tools/eval/surface_run.py). A scene's depth range and volume come from
+#     dense_depth_config:= / surface_config:= (config/*_globe.yaml: the demo).
 #
 #   scripts/run_pipeline.sh BAG [ARG:=VALUE ...]
 #                                        (after `source <ws>/devel/setup.bash`,
@@ -72,7 +79,10 @@ missing=()
 # `rosrun nodelet declared_nodelets` lists nothing without an initialised rosdep.
 declared="$(rospack plugins --attrib=plugin nodelet 2>/dev/null | while read -r _ xml; do
   [ -f "$xml" ] && sed -nE 's/.*<class[^>]* name="([^"]+)".*/\1/p' "$xml"; done || true)"
-for n in hapi_frontend/StereoFrontendNodelet hapi_eskf/EskfNodelet; do
+needed=(hapi_frontend/StereoFrontendNodelet hapi_eskf/EskfNodelet)
+printf '%s\n' "${LAUNCH_ARGS[@]}" | grep -qx "dense_depth:=false" || needed+=(hapi_surface/DenseDepthNodelet)
+printf '%s\n' "${LAUNCH_ARGS[@]}" | grep -qx "surface:=false" || needed+=(hapi_surface/SurfaceNodelet)
+for n in "${needed[@]}"; do
   grep -qx "$n" <<<"$declared" || missing+=("nodelet $n (not declared/built)")
 done
 for f in launch/robot.launch launch/server.launch launch/all_in_one.launch launch/replay.launch \
@@ -90,7 +100,7 @@ REPORT="$RUN_DIR/report.yaml"
 DIAG="$RUN_DIR/diagnostics.bag"
 LOG="$RUN_DIR/pipeline.log"
 rm -f "$REPORT" "$DIAG" "$DIAG.active" "$RUN_DIR"/{trajectory,error_over_time,nees}.png \
-  "$RUN_DIR"/{estimate,ground_truth}.tum "$RUN_DIR/estimate_covariance.txt"
+  "$RUN_DIR"/{estimate,ground_truth}.tum "$RUN_DIR/estimate_covariance.txt" "$RUN_DIR"/mesh.{ply,png}
 : >"$LOG"
 
 export ROS_HOME="${ROS_HOME:-$WS/ros_home}"

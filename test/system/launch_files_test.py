@@ -73,14 +73,27 @@ class LaunchFilesTest(unittest.TestCase):
 
     def test_server(self):
         ns = self.check_runnable(load("server.launch"))
-        self.assertEqual(set(ns), {"/hapi_server_manager", "/eskf", "/surface_motion"})
+        self.assertEqual(set(ns), {"/hapi_server_manager", "/eskf", "/surface_motion", "/surface"})
         self.assertEqual(remaps(ns["/eskf"])["~landmarks"], "/stereo_frontend/landmarks")
         # The surface motion reads the ESKF's private outputs and the front end's image flow.
         sm = remaps(ns["/surface_motion"])
         self.assertIn("hapi_eskf/SurfaceMotionNodelet", ns["/surface_motion"].args)
         self.assertEqual((sm["odom"], sm["map"], sm["flow"]), ("/eskf/odom", "/eskf/map", "/imaging_flow/flow"))
-        self.assertEqual(set(self.check_runnable(load("server.launch", "surface_motion:=false"))),
+        self.assertEqual(set(self.check_runnable(load("server.launch", "surface_motion:=false", "surface:=false"))),
                          {"/hapi_server_manager", "/eskf"})
+        # The surface: the robot's dense depth, the imaging camera (default the left one) and the filter's path,
+        # in the filter's TF parent frame; a scene's profile is loaded on request only.
+        sf = remaps(ns["/surface"])
+        self.assertIn("hapi_surface/SurfaceNodelet", ns["/surface"].args)
+        self.assertEqual((sf["depth"], sf["depth_camera_info"], sf["path"]),
+                         ("/dense_depth/depth", "/dense_depth/camera_info", "/eskf/path"))
+        self.assertEqual((sf["imaging/image"], sf["imaging/camera_info"]),
+                         ("/stereo/left/image_raw", "/stereo/left/camera_info"))
+        cfg = load("server.launch")
+        self.assertEqual(cfg.params["/surface/world_frame"].value, "map")
+        self.assertNotIn("/surface/voxel_size", cfg.params)
+        globe = load("server.launch", "surface_config:=" + os.path.join(LAUNCH, "..", "config", "surface_globe.yaml"))
+        self.assertGreater(globe.params["/surface/voxel_size"].value, 0.0005)
         ns = self.check_runnable(load("server.launch", "rviz:=true"))
         self.assertIn("/rviz", ns)
         self.assertIn("hapi.rviz", ns["/rviz"].args)
@@ -102,6 +115,19 @@ class LaunchFilesTest(unittest.TestCase):
         self.assertEqual(remaps(sm)["flow"], "/imaging_flow/flow")
         self.assertEqual(remaps(sm)["imaging/camera_info"], "/stereo/left/camera_info")
         self.assertNotIn("/rviz", ns, "headless by default")
+        # Dense depth on the front end's stereo topics, in the shared manager, feeding the surface.
+        dd, sf = ns["/dense_depth"], ns["/surface"]
+        self.assertIn("hapi_surface/DenseDepthNodelet", dd.args)
+        self.assertEqual(dd.args.split()[2], be.args.split()[2])
+        self.assertEqual({k: v for k, v in remaps(dd).items()}, {k: v for k, v in remaps(fe).items() if k != "~landmarks"})
+        self.assertEqual(remaps(sf)["depth"], "/dense_depth/depth")
+        imaging = nodes(load("all_in_one.launch", "imaging_image:=/imaging/image_raw",
+                             "imaging_info:=/imaging/camera_info"))
+        self.assertEqual(remaps(imaging["/surface"])["imaging/image"], "/imaging/image_raw")
+        self.assertEqual(remaps(imaging["/surface"])["imaging/camera_info"], "/imaging/camera_info")
+        off = nodes(load("all_in_one.launch", "dense_depth:=false", "surface:=false"))
+        self.assertNotIn("/dense_depth", off)
+        self.assertNotIn("/surface", off)
 
     def test_all_in_one_two_managers(self):
         ns = self.check_runnable(load("all_in_one.launch", "single_manager:=false", "rviz:=true"))
@@ -155,6 +181,9 @@ class LaunchFilesTest(unittest.TestCase):
         self.assertEqual(where["/server_manager"], "localhost")
         self.assertEqual(where["/eskf"], "localhost")
         self.assertEqual(where["/rviz"], "localhost")
+        # Only the depth keyframes cross the link: dense depth on the robot, the surface on the server.
+        self.assertEqual(where["/dense_depth"], "10.0.0.2")
+        self.assertEqual(where["/surface"], "localhost")
         self.assertEqual(cfg.machines[ns["/stereo_frontend"].machine_name].env_loader, "/r/env_loader.sh")
         self.assertEqual(cfg.machines[ns["/eskf"].machine_name].env_loader, "/s/env_loader.sh")
         # Each side has its own manager: only landmarks cross the network.

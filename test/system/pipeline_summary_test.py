@@ -136,6 +136,24 @@ class PipelineSummaryTest(unittest.TestCase):
         self.assertIn("scale 1.0100", out)
         self.assertIn("position NEES", out)
 
+    def test_surface_printed(self):
+        surface = {"mesh": "mesh.ply", "vertices": 1200, "faces": 2300, "keyframes_fused": 14, "integration": "cpu",
+                   "depth_keyframes_published": 15,
+                   "imaging_frames_projected": 30, "rms_mm": 0.412, "p95_mm": 0.9, "completeness_pct": 91.25,
+                   "seen_points": 800, "registration_rms_mm": 0.55, "registration_p95_mm": 1.1, "edge_pieces": 12,
+                   "picture": "mesh.png"}
+        rc, out = self.run_summary(dict(GOOD, surface=surface), self.diag)
+        self.assertEqual(rc, 0, out)
+        self.assertIn("1200 vertices, 2300 triangles, 14 keyframes fused of 15 depth keyframes", out)
+        self.assertIn("RMS 0.412 mm, p95 0.900 mm, completeness 91.2 %", out)
+        self.assertIn("registration RMS 0.550 mm", out)
+        self.assertIn("surface picture       : mesh.png", out)
+        # Without a perfusion pattern (the globe) no registration is printed; a failed save is said.
+        rc, out = self.run_summary(dict(GOOD, surface=dict(surface, edge_pieces=0)), self.diag)
+        self.assertNotIn("registration", out)
+        rc, out = self.run_summary(dict(GOOD, surface={"error": "no service", "keyframes_fused": 0}), self.diag)
+        self.assertIn("surface               : not saved (no service; 0 keyframes fused)", out)
+
     def test_standstill_scored_by_drift(self):
         # A device standing still: ATE % of the jitter's path means nothing,
         # the drift from the first pose decides (1 cm, 1 deg by default).

@@ -16,9 +16,13 @@
 #      shot, default 10), HAPI_SHOT_RVIZ_TIMEOUT (seconds to wait for the rviz
 #      window, default 120), HAPI_SHOT_MIN_PIXELS (default 1500), HAPI_WS
 #      (workspace, default .ws), HAPI_SHOT_FULL_RUN=1 (let the pipeline finish
-#      the bag and print its result instead of stopping it after the shots).
+#      the bag and print its result instead of stopping it after the shots),
+#      HAPI_SHOT_MESH=0 (skip the surface mesh check), HAPI_SHOT_REPLAY_ARGS
+#      (more replay.launch args; default: the globe profiles of the dense
+#      depth and the surface, config/*_globe.yaml, as the demo).
 # Writes OUT_DIR/rviz.png, OUT_DIR/rviz_before.png, OUT_DIR/run/ (the
-# pipeline's report). Exit 0 map visible, 1 not visible / run broken,
+# pipeline's report). Exit 0 map visible and the surface mesh on rviz's mesh
+# display, 1 not visible / no mesh / run broken,
 # 77 a tool is missing (Xvfb, xwd, xwininfo, rviz: ctest reports a skip).
 # The pipeline's own verdict (ATE/map bounds) is printed but not part of this
 # check: globe_accuracy.test asserts it.
@@ -32,6 +36,7 @@ OUT="${2:-$WS/rviz_shot}"
 AT="${HAPI_SHOT_AT:-10}"
 RVIZ_TIMEOUT="${HAPI_SHOT_RVIZ_TIMEOUT:-120}"
 MIN_PIXELS="${HAPI_SHOT_MIN_PIXELS:-1500}"
+SHOT_REPLAY_ARGS="${HAPI_SHOT_REPLAY_ARGS-dense_depth_config:=$REPO/config/dense_depth_globe.yaml surface_config:=$REPO/config/surface_globe.yaml}"
 
 for tool in Xvfb xwd xwininfo rviz; do
   command -v "$tool" >/dev/null || { echo "[rviz-shot] MISSING: $tool (Debian: xvfb x11-apps x11-utils rviz)" >&2; exit 77; }
@@ -92,7 +97,7 @@ startAndFirstShot() {
   PORT="$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
   export ROS_MASTER_URI="http://localhost:$PORT" ROS_HOSTNAME=localhost
   unset ROS_IP || true
-  HAPI_ROS_PORT="$PORT" HAPI_RUN_DIR="$OUT/run" HAPI_REPLAY_ARGS="rviz:=true paused:=true" \
+  HAPI_ROS_PORT="$PORT" HAPI_RUN_DIR="$OUT/run" HAPI_REPLAY_ARGS="rviz:=true paused:=true $SHOT_REPLAY_ARGS" \
     bash "$REPO/scripts/run_pipeline.sh" "$BAG" >"$OUT/pipeline.out" 2>&1 &
   RUN_PID=$!
 
@@ -147,6 +152,28 @@ sleep "$AT"
 kill -0 "$RUN_PID" 2>/dev/null || { echo "[rviz-shot] ERROR: the pipeline ended before the shot:" >&2; tail -20 "$OUT/pipeline.out" >&2; exit 1; }
 xwd -root -silent >"$OUT/after.xwd"
 echo "[rviz-shot] shots before the bag (player paused) and ${AT} s after resuming it"
+# The surface's mesh display (hapi.rviz: Marker on /surface/mesh): rviz is
+# subscribed to the mesh, and the nodelet (which meshes only while someone
+# subscribes) has a latched TRIANGLE_LIST with triangles on it.
+mesh_rc=0
+if [ "${HAPI_SHOT_MESH:-1}" = 1 ]; then
+  timeout 20 rostopic info /surface/mesh >"$OUT/mesh_info.out" 2>&1 || true
+  if ! grep -Eq '^ \* /rviz' "$OUT/mesh_info.out"; then
+    echo "[rviz-shot] FAIL: rviz is not subscribed to /surface/mesh (see $OUT/mesh_info.out)" >&2; mesh_rc=1
+  elif ! timeout 30 /usr/bin/python3 -c "
+import genpy.dynamic, rospy, sys
+rospy.init_node('rviz_shot_mesh', anonymous=True)
+raw = rospy.wait_for_message('/surface/mesh', rospy.AnyMsg, timeout=25)  # no Python visualization_msgs in Debian
+h = raw._connection_header
+cls = genpy.dynamic.generate_dynamic(h['type'], h['message_definition'])[h['type']]
+m = cls().deserialize(raw._buff)
+print('mesh marker: type %d, %d triangles, frame %s' % (m.type, len(m.points) // 3, m.header.frame_id))
+sys.exit(0 if m.type == cls.TRIANGLE_LIST and m.points else 1)" >"$OUT/mesh.out" 2>&1; then
+    echo "[rviz-shot] FAIL: no mesh with triangles on /surface/mesh (see $OUT/mesh.out)" >&2; mesh_rc=1
+  else
+    echo "[rviz-shot] $(tail -n1 "$OUT/mesh.out"), shown by rviz's /surface/mesh display"
+  fi
+fi
 
 set +e
 # The shots are taken: stop the pipeline instead of replaying the rest of the
@@ -157,6 +184,7 @@ wait "$RUN_PID"; run_rc=$?; RUN_PID=""
 /usr/bin/python3 "$REPO/test/system/rviz_screenshot_check.py" "$OUT/before.xwd" "$OUT/after.xwd" "$OUT/rviz.png" \
   --min-pixels "$MIN_PIXELS"
 rc=$?
+[ "$mesh_rc" -eq 0 ] || rc=1
 set -e
 rm -f "$OUT"/*.xwd
 echo "[rviz-shot] pipeline exit status $run_rc (130 = stopped after the shots; its output: $OUT/pipeline.out)"

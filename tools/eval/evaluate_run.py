@@ -11,7 +11,10 @@ over 1 s, NEES, velocity error, map error to the nearest true surface), the
 rates, and the per-stage timings the nodelets report in /diagnostics. Writes
 the same as YAML to ~output and, next to it, the trajectories
 (estimate.tum, ground_truth.tum, estimate_covariance.txt: the inputs of the
-offline tools/eval/evaluate.py) and the PNG plots (plots.py).
+offline tools/eval/evaluate.py) and the PNG plots (plots.py). With ~surface
+(hapi_surface/SurfaceNodelet running) it saves the surface to mesh.ply next
+to ~output before the launch ends, scores it against the truth and draws
+mesh.png (surface_run.py), in the report's `surface` section.
 
 With ~test:=true it is a rostest test node: it fails when a metric is outside
 the bounds given as parameters, or when the run did not cover the bag (a back
@@ -52,6 +55,7 @@ import plots  # noqa: E402
 import run_analysis  # noqa: E402
 import scene_geometry  # noqa: E402
 import surface_motion_run  # noqa: E402
+import surface_run  # noqa: E402
 import trajectory_io as tio  # noqa: E402
 
 
@@ -105,6 +109,12 @@ class RunCollector:
         except ImportError as e:  # hapi_msgs' Python messages not built or not on the path
             rospy.logerr("surface motion not evaluated: %s", e)
             self.surface_motion = None
+        self.surface = None
+        if rospy.get_param("~surface", False):
+            try:
+                self.surface = surface_run.SurfaceCollector()
+            except ImportError as e:  # hapi_msgs' Python services not built or not on the path
+                rospy.logerr("surface not evaluated: %s", e)
 
     def on_odom(self, msg):
         p, o = msg.pose.pose.position, msg.pose.pose.orientation
@@ -232,7 +242,7 @@ class RunCollector:
                 res["odom_end_gap_s"] = float(np.max(gt["t"]) - np.max(est["t"]))
         if "map_points" not in res and map_points is not None and len(map_points) > 0:
             res["map_points"] = int(len(map_points))
-        ours = ("hapi", "eskf", "frontend", "surface motion", "imaging flow")
+        ours = ("hapi", "eskf", "frontend", "surface", "imaging flow", "dense depth")
         res["diagnostics"] = {k: v for k, v in diag.items() if any(w in k.lower() for w in ours)}
         latency = latency_summary(res["diagnostics"])
         if latency:
@@ -276,9 +286,13 @@ def write_run_files(out_dir, res, series, est, gt):
         res["plots_missing"] = f"plotting failed: {e}"
 
 
-def report(collected):
+def report(collected, collector):
     res, series, est, gt = collected
     out = rospy.get_param("~output", "")
+    if out and collector.surface is not None:
+        res["surface"] = collector.surface.save_and_score(os.path.dirname(os.path.abspath(out)),
+                                                          series.get("alignment"), collector.scene(), gt,
+                                                          res.get("diagnostics", {}))
     if out:
         write_run_files(os.path.dirname(os.path.abspath(out)), res, series, est, gt)
     text = yaml.safe_dump(run_analysis.to_plain(res), default_flow_style=False, sort_keys=True)
@@ -344,11 +358,33 @@ def failed_checks(res, bounds):
         elif sm["rms_mm_s"] > bounds["max_surface_velocity_rms"]:
             f["surface_motion"] = "surface velocity error %.4g mm/s RMS > %.4g mm/s" % (
                 sm["rms_mm_s"], bounds["max_surface_velocity_rms"])
+    f.update(surface_checks(res.get("surface"), bounds))
     rms = res.get("map_rms_to_sphere_m", res.get("map_rms_to_surface_m"))
     if rms is None:
         f["map_rms"] = "scene geometry unknown"
     elif rms > bounds["max_map_rms"]:
         f["map_rms"] = "map %.4g m RMS from the true surface > %.4g m" % (rms, bounds["max_map_rms"])
+    return f
+
+
+def surface_checks(surface, bounds):
+    """{check: why} of the surface's bounds (max_surface_rms_mm,
+    min_surface_completeness [%]; each optional)."""
+    if bounds.get("max_surface_rms_mm") is None and bounds.get("min_surface_completeness") is None:
+        return {}
+    surface = surface or {}
+    if "rms_mm" not in surface:
+        return {"surface": "no surface scored: %s" % surface}
+    f = {}
+    if surface.get("mesh_messages") == 0:
+        f["surface_mesh"] = "no ~mesh marker with triangles received"
+    if bounds.get("max_surface_rms_mm") is not None and surface["rms_mm"] > bounds["max_surface_rms_mm"]:
+        f["surface_rms"] = "mesh %.4g mm RMS from the true surface > %.4g mm" % (surface["rms_mm"],
+                                                                                  bounds["max_surface_rms_mm"])
+    if bounds.get("min_surface_completeness") is not None and not (
+            surface.get("completeness_pct", 0.0) >= bounds["min_surface_completeness"]):
+        f["surface_completeness"] = "completeness %s %% < %.4g %%" % (surface.get("completeness_pct"),
+                                                                     bounds["min_surface_completeness"])
     return f
 
 
@@ -362,7 +398,7 @@ class PipelineAccuracyTest(unittest.TestCase):
         res = collected[0]
         res["ended"] = ended
         res["nodes_not_answering"] = nodes_not_answering(rospy.get_param("~watch_nodes", []))
-        report(collected)
+        report(collected, c)
         bounds = {"max_ate_fraction": rospy.get_param("~max_ate_fraction", 0.02),
                   "max_position_error": rospy.get_param("~max_position_error", None),
                   "max_map_rms": rospy.get_param("~max_map_rms", 0.01),
@@ -370,7 +406,9 @@ class PipelineAccuracyTest(unittest.TestCase):
                   "max_end_gap": rospy.get_param("~max_end_gap", 1.0),
                   "max_drift": rospy.get_param("~max_drift", run_analysis.STANDSTILL_MAX_DRIFT_M),
                   "max_drift_deg": rospy.get_param("~max_drift_deg", run_analysis.STANDSTILL_MAX_DRIFT_DEG),
-                  "max_surface_velocity_rms": rospy.get_param("~max_surface_velocity_rms", None)}
+                  "max_surface_velocity_rms": rospy.get_param("~max_surface_velocity_rms", None),
+                  "max_surface_rms_mm": rospy.get_param("~max_surface_rms_mm", None),
+                  "min_surface_completeness": rospy.get_param("~min_surface_completeness", None)}
         failed = failed_checks(res, bounds)
         expected = rospy.get_param("~expect_failures", [])
         if expected:
@@ -388,7 +426,7 @@ def main():
         rostest.rosrun("hapi_slam", "pipeline_accuracy", PipelineAccuracyTest, sys.argv)
         return
     collector.wait_for_end(rospy.get_param("~idle_timeout", 5.0), rospy.get_param("~max_wall_time", 600.0))
-    report(collector.results())
+    report(collector.results(), collector)
     if rospy.get_param("~shutdown_when_done", True):
         rospy.signal_shutdown("evaluation done")
 

@@ -45,6 +45,12 @@ def pose_matrix(p, q_xyzw):
     return T
 
 
+def camera_from_info(msg):
+    """(fx, fy, cx, cy, width, height) of a sensor_msgs/CameraInfo: the pinhole
+    that completeness casts its rays through."""
+    return (msg.K[0], msg.K[4], msg.K[2], msg.K[5], msg.width, msg.height)
+
+
 def every_nth_in_time(stamps, rate):
     """Indices of the keyframes a gate of `rate` Hz takes (the first, then the
     first at least 1/rate later): DenseDepthKeyframeGate's rule."""
@@ -72,7 +78,7 @@ def truth_from_bag(path):
                 stamps.append(m.header.stamp.to_sec())
                 poses.append(pose_matrix([p.x, p.y, p.z], [o.x, o.y, o.z, o.w]))
             elif topic == "/stereo/left/camera_info" and camera is None:
-                camera = (m.K[0], m.K[4], m.K[2], m.K[5], m.width, m.height)
+                camera = camera_from_info(m)
     if surfaces is None:
         raise ValueError(f"{path} has no /ground_truth/scene")
     return surfaces, pattern, stamps, poses, camera
@@ -87,7 +93,7 @@ def main(argv=None):
     ap.add_argument("--trajectory", help="TUM trajectory of the left camera in world (ground truth)")
     ap.add_argument("--camera", help="fx,fy,cx,cy,width,height of the left camera")
     ap.add_argument("--keyframe-rate", type=float, default=2.0, help="Hz, keyframes counted for 'seen' (default 2)")
-    ap.add_argument("--depth-range", default="0.15,0.5", help="m, near,far of the depth keyframes")
+    ap.add_argument("--depth-range", default="%g,%g" % sm.DEFAULT_DEPTH_RANGE, help="m, near,far of the depth keyframes")
     ap.add_argument("--value-property", default="value", help="PLY vertex property of the projected value")
     ap.add_argument("--t-world-mesh", help="16 comma-separated numbers: the mesh frame in world")
     ap.add_argument("--json", help="write the figures here too")

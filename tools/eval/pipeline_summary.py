@@ -60,7 +60,8 @@ def read_diagnostics(path):
             for st in msg.status:
                 name = st.name
                 # The self-checks (docs/CALIBRATION.md) carry no timings.
-                if not re.search(r"hapi|eskf|frontend", name, re.IGNORECASE) or name.endswith("self-check"):
+                if not re.search(r"hapi|eskf|frontend|surface|dense depth", name, re.IGNORECASE) \
+                        or name.endswith("self-check"):
                     continue
                 out.setdefault(name, []).append((t.to_sec(), {kv.key: kv.value for kv in st.values}))
     return out
@@ -150,6 +151,31 @@ def print_further_metrics(rep):
         print(f"plots                 : none ({rep['plots_missing']})")
 
 
+def print_surface(sf):
+    """The 3D surface's figures (evaluate_run.py's `surface` section: surface_run.py)."""
+    if not sf:
+        return
+    kf = f"{sf['keyframes_fused']} keyframes fused" if "keyframes_fused" in sf else "keyframes unknown"
+    if "depth_keyframes_published" in sf:
+        kf += f" of {sf['depth_keyframes_published']} depth keyframes"
+    if "error" in sf:
+        print(f"surface               : not saved ({sf['error']}; {kf})")
+        return
+    print(f"surface               : {sf['mesh']}, {sf['vertices']} vertices, {sf['faces']} triangles, {kf}"
+          f" ({sf.get('integration', '?')}), {sf.get('imaging_frames_projected', 0)} imaging frames projected")
+    if "rms_mm" in sf:
+        text = f"mesh to truth RMS {sf['rms_mm']:.3f} mm, p95 {sf['p95_mm']:.3f} mm"
+        if "completeness_pct" in sf:
+            text += f", completeness {sf['completeness_pct']:.1f} % (of {sf['seen_points']} seen 2 mm cells)"
+        if sf.get("edge_pieces"):
+            text += (f", registration RMS {sf['registration_rms_mm']:.3f} mm, p95 {sf['registration_p95_mm']:.3f} mm"
+                     f" ({sf['edge_pieces']} edge pieces)")
+        print(f"surface accuracy      : {text} (ATE's alignment)")
+    else:
+        print(f"surface accuracy      : not scored ({sf.get('not_scored', sf.get('score_error', '?'))})")
+    print(f"surface picture       : {sf.get('picture', 'none (%s)' % sf.get('picture_missing', '?'))}")
+
+
 def verdict(ok, failed, what):
     """'PASS' or 'FAIL'; a failure is appended to `failed` as `what`."""
     if not ok:
@@ -215,6 +241,7 @@ def main():
     if "ate_rmse_m" in rep:
         score_trajectory(rep, a, failed)
         print_further_metrics(rep)
+        print_surface(rep.get("surface"))
     else:
         missing.append("ATE (no odometry matched the ground truth)")
     if "map_rms_to_surface_m" in rep or "map_rms_to_sphere_m" in rep:

@@ -85,7 +85,7 @@ def analyse(est, gt, max_dt, interpolate=False, scene=None, map_points=None, gt_
         "ate_sim3_rmse_m": sim3["rmse"], "sim3_scale": sim3["s"],
         "rotation_rmse_deg": float(np.sqrt(np.mean(rot ** 2))), "rotation_max_deg": float(rot.max()),
     })
-    series.update({"t": e_t - e_t[0], "est_aligned": se3["aligned"], "truth": g_p,
+    series.update({"t": e_t - e_t[0], "est_aligned": se3["aligned"], "truth": g_p, "alignment": (se3["R"], se3["t"]),
                    "position_error_m": se3["errors"], "rotation_error_deg": rot})
     if is_standstill(g_p):
         d_m, d_deg = drift(est["p"], est["q"])

@@ -305,8 +305,12 @@ def registration(vertices, values, pattern):
 
 
 # ---------------------------------------------------------------- all of it
+# [m] the dense depth's default range (hapi_surface dense_depth_settings.def)
+DEFAULT_DEPTH_RANGE = (0.15, 0.5)
+
+
 def evaluate_surface(vertices, faces, surfaces, values=None, pattern=None, poses=None, camera=None,
-                     depth_range=(0.15, 0.5), T_world_mesh=None):
+                     depth_range=DEFAULT_DEPTH_RANGE, T_world_mesh=None):
     """Every figure that the inputs allow: accuracy always, completeness with
     poses and camera, registration with values and pattern. vertices (N, 3)
     and faces (F, 3) in the mesh's frame, T_world_mesh (4x4) moving it into

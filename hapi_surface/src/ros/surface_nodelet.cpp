@@ -251,6 +251,9 @@ std::vector<Rgb8> SurfaceNodelet::colours(const Mesh& mesh) const {
 }
 
 void SurfaceNodelet::publishMesh() {
+  // Meshing is the surface's largest CPU cost (docs/DESIGN.md "Surface", Cost):
+  // without a subscriber it is left to the imaging projection and ~save_surface.
+  if (mesh_pub_.getNumSubscribers() == 0) return;
   Mesh mesh;
   {
     std::lock_guard<std::mutex> lk(mu_);
@@ -259,7 +262,6 @@ void SurfaceNodelet::publishMesh() {
   }
   stats_.vertices = mesh.vertices.size();
   stats_.faces = mesh.faces.size();
-  if (mesh_pub_.getNumSubscribers() == 0) return;
   mesh_pub_.publish(ros_glue::toMarker(mesh, colours(mesh), params_.world_frame, ros::Time::now()));
   ++stats_.meshes_published;
 }
@@ -270,6 +272,8 @@ bool SurfaceNodelet::saveService(hapi_msgs::SaveSurface::Request& req, hapi_msgs
     std::lock_guard<std::mutex> lk(mu_);
     if (mapper_->volume()) mesh = mapper_->mesh();
   }
+  stats_.vertices = mesh.vertices.size();
+  stats_.faces = mesh.faces.size();
   const SurfaceStatus st = mesh.empty() ? SurfaceStatus::kNoVolume : writePly(req.path, mesh, colours(mesh));
   res.success = st == SurfaceStatus::kOk;
   res.vertices = static_cast<std::uint32_t>(mesh.vertices.size());
