@@ -24,6 +24,7 @@ ALLOWED = {
     "graph": {"backend", "covariance", "eskf"},
     "fastslam": {"backend"},
     "surface_motion": set(),
+    "map_file": set(),
 }
 # The top: the factory and the settings that compose every part's table
 # (settings.hpp) sit above every folder; the rest of the top-level

@@ -1,11 +1,12 @@
 // Writes the seed corpus of the fuzz targets: a few valid inputs per target
 // (and one near-miss each) in the record format of bounded_message.hpp.
 //   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed,image_flow,surface_motion_flow,
-//                                                 surface_input,dense_depth_pair}/seed_*
+//                                                 surface_input,dense_depth_pair,map_file}/seed_*
 // Deterministic (fixed seeds): rerunning it rewrites the same files.
 #include "bounded_message.hpp"
 #include "synthetic_frames.hpp"
 
+#include "hapi_eskf/map_file/map_writer.hpp"
 #include "hapi_surface/ply_io.hpp"
 
 #include <hapi_msgs/ImageFlow.h>
@@ -21,6 +22,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <random>
@@ -277,6 +279,47 @@ void surfaceInput(const std::string& dir) {
   write(dir, "seed_depth_then_imaging", b);
 }
 
+
+// A saved landmark map (hapi_eskf/map_file): three landmarks with an IMU, an
+// empty map without one, and a near miss (a NaN in a covariance).
+void mapFile(const std::string& dir) {
+  using namespace hapi_eskf::map_file;
+  MapData m;
+  m.camera_frame = "stereo_left_optical_frame";
+  m.gravity_direction = Eigen::Vector3d(0.0, 1.0, 0.0);
+  m.created = 1795600000.0;
+  m.calibration.width = 752;
+  m.calibration.height = 480;
+  m.calibration.fx = m.calibration.fy = 458.0;
+  m.calibration.cx = 376.0;
+  m.calibration.cy = 240.0;
+  m.calibration.baseline = 0.11;
+  m.calibration.has_imu = true;
+  m.calibration.imu_cam.p_imu_cam = Eigen::Vector3d(-0.02, -0.06, 0.01);
+  for (int i = 0; i < 3; ++i) {
+    MapLandmark l;
+    l.id = 10 + i;
+    l.position = Eigen::Vector3d(0.01 * i, -0.02, 0.25);
+    l.covariance = Eigen::Vector3d(1e-8, 1e-8, 4e-7).asDiagonal();
+    l.covariance(0, 2) = l.covariance(2, 0) = 5e-9;
+    l.times_observed = 1 + 4 * i;
+    l.descriptor.assign(32, static_cast<std::uint8_t>(0x5a + i));
+    m.landmarks.push_back(l);
+  }
+  MapError error;
+  Bytes b = encodeMap(m, &error);
+  write(dir, "seed_three_landmarks", b);
+  const std::size_t last_zz = b.size() - 32 - 4 - 8;  // the last landmark's covariance zz
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(b.data() + last_zz, &nan, sizeof(nan));
+  write(dir, "seed_nan_covariance", b);
+  m.landmarks.clear();
+  m.gravity_direction.setZero();
+  m.calibration.has_imu = false;
+  m.calibration.imu_cam = hapi_eskf::CameraExtrinsic();
+  write(dir, "seed_empty_map", encodeMap(m, &error));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -294,5 +337,6 @@ int main(int argc, char** argv) {
   imageFlow(out + "/image_flow");
   surfaceMotionFlows(out + "/surface_motion_flow");
   surfaceInput(out + "/surface_input");
+  mapFile(out + "/map_file");
   return 0;
 }

@@ -28,7 +28,7 @@ case "$MODE" in
     command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
     cmake -S "$HERE" -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++-14 -DHAPI_MSGS_INCLUDE_DIR="$MSGS" "${launcher[@]}" >/dev/null
     cmake --build "$BUILD" -j"${HAPI_JOBS:-$(nproc)}" --target landmarks_fuzzer imu_fuzzer image_pair_fuzzer compressed_fuzzer image_flow_fuzzer surface_motion_flow_fuzzer \
-      surface_input_fuzzer dense_depth_pair_fuzzer \
+      surface_input_fuzzer dense_depth_pair_fuzzer map_file_fuzzer \
       sanitized_gtests
     ;;
   gtests)

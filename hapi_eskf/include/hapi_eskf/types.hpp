@@ -74,6 +74,16 @@ struct StereoFrame {
   std::vector<StereoMeasurement> measurements;
 };
 
+// A landmark of a saved map put back into the pool (Eskf::loadMap): its
+// position in the map frame, marginal covariance, observation count and
+// descriptor.
+struct PriorLandmark {
+  Vec3 position = Vec3::Zero();        // [m]
+  Mat3 covariance = Mat3::Identity();  // [m^2]
+  int times_observed = 1;
+  std::vector<uint8_t> descriptor;     // the pool's descriptor length
+};
+
 // A landmark of the pool as seen from outside (map publishing, PLY export).
 struct LandmarkInfo {
   uint64_t id = 0;           // unique for the lifetime of the filter

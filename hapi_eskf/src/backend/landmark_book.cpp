@@ -112,6 +112,12 @@ uint64_t LandmarkBook::add(const Vec3& position, const std::array<uint8_t, 3>& r
   return ids_.back();
 }
 
+uint64_t LandmarkBook::addPrior(const Vec3& position, int times_observed, double stamp) {
+  const uint64_t id = add(position, {{128, 128, 128}}, stamp);
+  times_observed_.back() = times_observed;
+  return id;
+}
+
 std::vector<LandmarkInfo> LandmarkBook::info(const std::vector<Mat3>& cov) const {
   std::vector<LandmarkInfo> out(ids_.size());
   for (std::size_t k = 0; k < ids_.size(); ++k) {

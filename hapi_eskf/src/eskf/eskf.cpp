@@ -257,6 +257,42 @@ std::vector<LandmarkInfo> Eskf::landmarks() const {
   return book_.info(backend_->landmarkCovariances());
 }
 
+std::vector<uint8_t> Eskf::landmarkDescriptors() const {
+  return backend_ ? backend_->descriptors() : std::vector<uint8_t>();
+}
+
+Status Eskf::loadMap(const std::vector<PriorLandmark>& map) {
+  if (!backend_) return Status::kBackendUnavailable;
+  if (!initialised_) return Status::kNotInitialised;
+  if (awaiting_alignment_ || model_->kind() == MotionModelKind::kInertial) return Status::kAwaitingImu;
+  if (numLandmarks() != 0 || settings_.ransac_iterations == 0) return Status::kInvalidArgument;
+  if (static_cast<int>(map.size()) > settings_.max_landmarks - settings_.max_new_landmarks)
+    return Status::kCapacityExceeded;
+  const int length = backend_->descriptorLength();
+  std::vector<NewLandmarkBlock> blocks(map.size());
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    if (static_cast<int>(map[i].descriptor.size()) != length || map[i].times_observed < 1)
+      return Status::kInvalidArgument;
+    // m = position, dm = dz with C_z the saved marginal: no pose columns.
+    blocks[i].G_pose.setZero();
+    blocks[i].G_z.setIdentity();
+    blocks[i].Cz = map[i].covariance;
+    blocks[i].descriptor = map[i].descriptor.data();
+  }
+  PoseMat C0 = model_->initialCovariance();
+  C0.diagonal().segment<3>(kIdxP).array() += kLoadedMapPoseSigmaP * kLoadedMapPoseSigmaP;
+  C0.diagonal().segment<3>(kIdxTheta).array() += kLoadedMapPoseSigmaTheta * kLoadedMapPoseSigmaTheta;
+  Status st = backend_->reset(frame_error_.covariance(C0));
+  if (st == Status::kOk) st = backend_->addLandmarks(blocks);
+  if (st != Status::kOk) {
+    backend_->reset(frame_error_.covariance(model_->initialCovariance()));
+    return st;
+  }
+  for (const PriorLandmark& l : map) book_.addPrior(l.position, l.times_observed, time_);
+  relocaliser_.awaitMap();
+  return Status::kOk;
+}
+
 bool Eskf::poseBlockState(PoseBlockState* out) const {
   if (!out || !backend_ || !initialised_) return false;
   out->extrinsic = model_->extrinsic();
@@ -387,7 +423,7 @@ Status Eskf::associateAtPose(FrameWork& w) const {
 Status Eskf::associateFrame(FrameWork& w) {
   const auto t0 = Clock::now();
   Status st = associateAtPose(w);
-  const bool have_fit = st == Status::kOk && w.assoc.fit_inliers >= kRelocaliseMinInliers;
+  const bool have_fit = st == Status::kOk && w.assoc.fit_inliers >= relocaliser_.minInliers();
   bool vision_leads = false;
   if (have_fit && model_->usesImu() && !relocaliser_.pending()) {
     const Status prior = checkSceneMotion(w, &vision_leads);

@@ -18,6 +18,10 @@ constexpr int kRelocaliseMinInliers = 6;
 // corrupt the map) before the filter carries on without relocalising (the
 // camera may look at unmapped ground only) [s].
 constexpr double kRelocaliseWaitS = 2.0;
+// Smallest inlier set that relocalises in a loaded map (Eskf::loadMap): no
+// pose hint, the whole map is searched, so a chance fit of wrong matches on
+// unmapped skin must be ruled out with a wider margin than after an outage.
+constexpr int kMapRelocaliseMinInliers = 12;
 
 struct AssociationSettings {
 #define HAPI_FIELD(type, name, default_value, range, unit, doc) type name = default_value;

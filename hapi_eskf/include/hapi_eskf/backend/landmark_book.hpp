@@ -72,6 +72,9 @@ class LandmarkBook {
   // id. Its first estimate is `position` unless given.
   uint64_t add(const Vec3& position, const std::array<uint8_t, 3>& rgb, double stamp);
   uint64_t add(const Vec3& position, const std::array<uint8_t, 3>& rgb, double stamp, const Vec3& first_estimate);
+  // A landmark of a loaded map: seen `times_observed` times, last at `stamp`
+  // (the load), so the pool's eviction policy treats it as any other.
+  uint64_t addPrior(const Vec3& position, int times_observed, double stamp);
 
   // The map as LandmarkInfo, with the back end's marginal covariances (slot
   // order; missing entries are zero).

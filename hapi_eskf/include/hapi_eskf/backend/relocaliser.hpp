@@ -5,6 +5,8 @@
 // (Association::fit_*, >= kRelocaliseMinInliers pairs) before gating; until
 // such a fit, frames are held back (prediction only) for at most
 // kRelocaliseWaitS, after which the back end carries on from the prediction.
+// A loaded map (awaitMap) is the same wait without a time limit and with
+// kMapRelocaliseMinInliers: the pose in the map is unknown until a fit.
 // This class keeps the timeline (last frame, outage) and answers those
 // questions; the back end moves its own pose.
 #pragma once
@@ -22,7 +24,16 @@ class Relocaliser {
   void reset(double stamp) {
     last_frame_stamp_ = stamp;
     pending_ = false;
+    awaiting_map_ = false;
   }
+  // A map was loaded: hold every frame until a fit places the camera in it.
+  void awaitMap() {
+    pending_ = can_fit_;
+    awaiting_map_ = can_fit_;
+  }
+  bool awaitingMap() const { return awaiting_map_; }
+  // The inliers a fit needs now.
+  int minInliers() const { return awaiting_map_ ? kMapRelocaliseMinInliers : kRelocaliseMinInliers; }
 
   // Before the prediction of a frame at `stamp`: true when it follows an
   // outage (the back end predicts it from rest). Remembers the previous state
@@ -57,6 +68,7 @@ class Relocaliser {
   bool fitApplied() {
     const bool was = pending_;
     pending_ = false;
+    awaiting_map_ = false;
     return was;
   }
   // Still pending after the association of the frame at `stamp`: true =
@@ -64,7 +76,7 @@ class Relocaliser {
   // false = the wait is over, carry on from the prediction.
   bool holdFrame(double stamp) {
     if (!pending_) return false;
-    if (stamp - outage_stamp_ <= kRelocaliseWaitS) return true;
+    if (awaiting_map_ || stamp - outage_stamp_ <= kRelocaliseWaitS) return true;
     pending_ = false;
     return false;
   }
@@ -74,6 +86,7 @@ class Relocaliser {
   bool can_fit_;
   double last_frame_stamp_ = 0.0, outage_stamp_ = 0.0;
   bool pending_ = false;
+  bool awaiting_map_ = false;
   bool saved_pending_ = false;
   double saved_outage_ = 0.0;
 };

@@ -113,6 +113,27 @@ class Eskf final : public SlamBackend {
   double time() const override { return time_; }
   int numLandmarks() const override { return book_.size(); }
   std::vector<LandmarkInfo> landmarks() const override;  // with marginal covariances
+  // The pool's descriptors, landmarks() order (numLandmarks() * length bytes).
+  std::vector<uint8_t> landmarkDescriptors() const;
+
+  // Puts a saved map into the pool right after reset() (empty pool; not the
+  // inertial model, whose gravity alignment resets the pool): each landmark
+  // with its covariance and no correlation with the pose, the world frame
+  // becoming the map's. The camera's place in it is unknown: the pose
+  // covariance widens (kLoadedMapPoseSigma*), and every frame is held back
+  // (prediction only) until a RANSAC fit of >= kMapRelocaliseMinInliers
+  // places the camera in the map (awaitingMap()). Then tracking goes on as
+  // usual and new landmarks join the loaded ones, which the pool evicts
+  // like any other (their saved observation counts, last seen at the load).
+  // kNotInitialised, kAwaitingImu / kInvalidArgument (not freshly reset,
+  // inertial model, descriptor length, RANSAC off), kCapacityExceeded (more than
+  // max_landmarks - max_new_landmarks), kNonFinite / kNotPositiveDefinite
+  // (a landmark); the filter is reset again on any error after the first
+  // change, so nothing is loaded half.
+  Status loadMap(const std::vector<PriorLandmark>& map);
+  bool awaitingMap() const { return relocaliser_.awaitingMap(); }
+  static constexpr double kLoadedMapPoseSigmaP = 0.1;      // [m]
+  static constexpr double kLoadedMapPoseSigmaTheta = 0.3;  // [rad]
   const std::vector<Vec3>& landmarkPositions() const { return book_.positions(); }
   const std::vector<uint64_t>& landmarkIds() const { return book_.ids(); }
   const EskfSettings& settings() const { return settings_; }

@@ -1,0 +1,178 @@
+// Coming back to the same scene (docs/DESIGN.md "Map file"): session 1 maps
+// a scene and saves its pool as a map file; session 2 starts at another
+// pose with no hint, loads the file, holds its frames until a RANSAC fit of
+// its measurements against the loaded landmarks places it in the map, then
+// tracks in the map frame and adds landmarks beyond the loaded ones. A
+// session on another scene (other points, other descriptors) must never
+// relocalise in the map.
+#include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/map_file/map_landmarks.hpp"
+#include "hapi_eskf/map_file/map_reader.hpp"
+#include "hapi_eskf/map_file/map_writer.hpp"
+#include "sim_scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <unistd.h>
+
+namespace hapi_eskf {
+namespace {
+
+// Session 1 fills a pool of 400; session 2 holds the map and room to grow.
+EskfSettings filterSettings(int max_landmarks) {
+  EskfSettings s;  // the tuned defaults (config/eskf.yaml): RANSAC, bootstrap, relocalisation on
+  s.max_landmarks = max_landmarks;
+  s.max_update_landmarks = 60;
+  return s;
+}
+
+map_file::MapCalibration rigCalibration(const sim::StereoRig& rig) {
+  map_file::MapCalibration c;
+  c.width = 640;
+  c.height = 480;
+  c.fx = c.fy = rig.focal_px;
+  c.cx = 320;
+  c.cy = 240;
+  c.baseline = rig.baseline_m;
+  return c;
+}
+
+// Session 1: from the world origin along +x, saving the pool at the end.
+std::string mapScene(const sim::World& scene, const sim::StereoRig& rig, std::mt19937& rng) {
+  const EskfSettings s = filterSettings(400);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+  PoseState truth;
+  truth.v = Vec3(0.2, 0.0, 0.0);
+  EXPECT_EQ(f.reset(truth, 0.0), Status::kOk);
+  for (int k = 1; k <= 40; ++k) {
+    truth = predictPose(truth, 0.1, s);
+    EXPECT_EQ(f.processFrame(sim::makeFrame(scene, truth, rig, 0.1 * k, 4, rng)), Status::kOk);
+  }
+  const auto e = sim::poseError(truth, f.pose());
+  std::printf("session 1: %d landmarks, final error %.2f mm %.3f deg\n", f.numLandmarks(), 1e3 * e.head<3>().norm(),
+              e.tail<3>().norm() * 180 / M_PI);
+  map_file::MapData map;
+  map.camera_frame = "stereo_left_optical_frame";
+  map.calibration = rigCalibration(rig);
+  int skipped = 0;
+  map.landmarks = map_file::toMapLandmarks(f.landmarks(), f.landmarkDescriptors(), 32, &skipped);
+  EXPECT_EQ(skipped, 0);
+  const std::string path = ::testing::TempDir() + "map_relocalise_" + std::to_string(::getpid()) + ".hmap";
+  const map_file::MapError err = map_file::writeMapFile(path, map);
+  EXPECT_FALSE(err) << err.message;
+  return path;
+}
+
+struct Session {
+  int loaded = 0, landmarks_at_end = 0;
+  int relocalised_at = -1;  // frame index, -1: never
+  int frames_held = 0, published_while_awaiting = 0;
+  double max_p_err = 0, max_rot_err = 0;  // over the frames after relocalisation [m], [rad]
+};
+
+// Session 2: loads the map and starts `start` (truth, in the map frame)
+// away from session 1's start, with no hint (the filter starts at identity).
+Session comeBack(const std::string& path, const sim::World& scene, const sim::StereoRig& rig, const PoseState& start,
+                 std::mt19937& rng) {
+  const EskfSettings s = filterSettings(1000);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+  EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  map_file::MapData map;
+  const map_file::MapCalibration running = rigCalibration(rig);
+  map_file::MapExpectation expect;
+  expect.descriptor_type = map_file::kDescriptorOrb;
+  expect.calibration = &running;
+  const map_file::MapError err = map_file::readMapFile(path, expect, &map);
+  EXPECT_FALSE(err) << err.message;
+  Session r;
+  r.loaded = static_cast<int>(map.landmarks.size());
+  EXPECT_EQ(f.loadMap(map_file::toPriorLandmarks(map)), Status::kOk);
+  EXPECT_TRUE(f.awaitingMap());
+  PoseState truth = start;
+  for (int k = 1; k <= 30; ++k) {
+    truth = predictPose(truth, 0.1, s);
+    IterationReport rep;
+    EXPECT_EQ(f.processFrame(sim::makeFrame(scene, truth, rig, 0.1 * k, 4, rng), &rep), Status::kOk);
+    if (rep.relocalising) {
+      ++r.frames_held;
+      EXPECT_EQ(rep.n_added, 0);
+      EXPECT_EQ(f.numLandmarks(), r.loaded);
+      continue;
+    }
+    if (f.awaitingMap()) ++r.published_while_awaiting;
+    if (rep.relocalised) r.relocalised_at = k;
+    if (r.relocalised_at < 0) continue;
+    const auto e = sim::poseError(truth, f.pose());
+    r.max_p_err = std::max(r.max_p_err, e.head<3>().norm());
+    r.max_rot_err = std::max(r.max_rot_err, e.tail<3>().norm());
+  }
+  r.landmarks_at_end = f.numLandmarks();
+  return r;
+}
+
+TEST(MapRelocalise, SavedMapLoadedAndRelocalisedWithoutAHint) {
+  std::mt19937 rng(5);
+  const sim::StereoRig rig;
+  const sim::World scene = sim::randomWorld(rng, 800, Vec3(-4, -2, 3), Vec3(6, 2, 9));
+  const std::string path = mapScene(scene, rig, rng);
+  // Back 30 cm to the side and 10 cm closer, turned 0.4 rad about the
+  // vertical and 0.1 rad about the optical axis, moving the other way.
+  PoseState start;
+  start.p = Vec3(0.5, 0.3, 0.1);
+  start.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Vec3::UnitY()) * Eigen::AngleAxisd(0.1, Vec3::UnitZ()));
+  start.v = Vec3(-0.15, 0.0, 0.0);
+  const Session r = comeBack(path, scene, rig, start, rng);
+  std::printf("session 2: %d landmarks loaded, relocalised at frame %d after %d held, %d at the end; max error "
+              "after relocalisation %.2f mm %.3f deg\n",
+              r.loaded, r.relocalised_at, r.frames_held, r.landmarks_at_end, 1e3 * r.max_p_err,
+              r.max_rot_err * 180 / M_PI);
+  EXPECT_GT(r.loaded, 200);
+  EXPECT_EQ(r.relocalised_at, 1);  // the first frame sees the mapped scene
+  EXPECT_EQ(r.published_while_awaiting, 0);
+  EXPECT_LT(r.max_p_err, 0.02);
+  EXPECT_LT(r.max_rot_err, 0.01);
+  EXPECT_GT(r.landmarks_at_end, r.loaded);  // tracking added landmarks beyond the map
+  std::remove(path.c_str());
+}
+
+TEST(MapRelocalise, AnotherSceneNeverRelocalises) {
+  std::mt19937 rng(6);
+  const sim::StereoRig rig;
+  const sim::World scene = sim::randomWorld(rng, 800, Vec3(-4, -2, 3), Vec3(6, 2, 9));
+  const sim::World other = sim::randomWorld(rng, 800, Vec3(-4, -2, 3), Vec3(6, 2, 9));
+  const std::string path = mapScene(scene, rig, rng);
+  PoseState start;
+  start.v = Vec3(0.2, 0.0, 0.0);
+  const Session r = comeBack(path, other, rig, start, rng);
+  std::printf("unmapped scene: relocalised at frame %d, %d of 30 frames held\n", r.relocalised_at, r.frames_held);
+  EXPECT_EQ(r.relocalised_at, -1);
+  EXPECT_EQ(r.frames_held, 30);
+  EXPECT_EQ(r.landmarks_at_end, r.loaded);
+  std::remove(path.c_str());
+}
+
+TEST(MapRelocalise, LoadRefusedUnlessFreshlyReset) {
+  const EskfSettings s = filterSettings(400);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  PriorLandmark l;
+  l.covariance = 1e-6 * Mat3::Identity();
+  l.descriptor.assign(31, 0);
+  EXPECT_EQ(f.loadMap({l}), Status::kInvalidArgument);  // descriptor length
+  l.descriptor.assign(32, 0);
+  EXPECT_EQ(f.loadMap(std::vector<PriorLandmark>(s.max_landmarks, l)), Status::kCapacityExceeded);
+  l.covariance(2, 2) = -1.0;
+  EXPECT_EQ(f.loadMap({l}), Status::kNotPositiveDefinite);
+  EXPECT_EQ(f.numLandmarks(), 0);
+  EXPECT_FALSE(f.awaitingMap());
+  l.covariance = 1e-6 * Mat3::Identity();
+  EXPECT_EQ(f.loadMap({l}), Status::kOk);
+  EXPECT_EQ(f.loadMap({l}), Status::kInvalidArgument);  // the pool is no longer empty
+}
+
+}  // namespace
+}  // namespace hapi_eskf
