@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Two "hosts" on one machine: the robot (front end, robot.launch, plays the
 # globe bag as its cameras) and the server (roscore + back end, server.launch,
-# headless) in two network namespaces joined by a slow, lossy link: 20 ms
+# headless; the dense depth and the surface off: this tests the link) in two
+# network namespaces joined by a slow, lossy link: 20 ms
 # delay + 5 % packet loss in each direction. The link is a veth pair with
 # `tc qdisc netem` where the kernel has sch_netem; otherwise (e.g. small VM
 # kernels: "Specified qdisc kind is unknown") delay_line.py makes the same
@@ -165,11 +166,11 @@ now_rel() { python3 -c "import time; print('%.2f' % (time.time() - $1))"; }
 ip netns exec "$NS_S" "${ENV_S[@]}" roscore -p 11311 >"$OUT/roscore.log" 2>&1 &
 PIDS+=($!)
 wait_for 60 "roscore on the server" server rosparam get /rosdistro
-ip netns exec "$NS_S" "${ENV_S[@]}" roslaunch hapi_slam server.launch rviz:=false >"$OUT/server.log" 2>&1 &
+ip netns exec "$NS_S" "${ENV_S[@]}" roslaunch hapi_slam server.launch rviz:=false surface:=false >"$OUT/server.log" 2>&1 &
 SERVER_PID=$!
 PIDS+=("$SERVER_PID")
 start_robot() {
-  ip netns exec "$NS_R" "${ENV_R[@]}" roslaunch hapi_slam robot.launch >>"$OUT/robot.log" 2>&1 &
+  ip netns exec "$NS_R" "${ENV_R[@]}" roslaunch hapi_slam robot.launch dense_depth:=false >>"$OUT/robot.log" 2>&1 &
   ROBOT_PID=$!
   PIDS+=("$ROBOT_PID")
 }
