@@ -2,6 +2,7 @@
 #include "hapi_eskf/ros/self_check.hpp"
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
+#include <hapi_nodelet_kit/sample_quantiles.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -27,13 +28,6 @@ std::string format(const char* fmt, ...) {
 // A check's value names its own level: the summary only shows the worst.
 std::string levelName(unsigned char level) {
   return level == DiagnosticStatus::ERROR ? "ERROR" : level == DiagnosticStatus::WARN ? "WARN" : "OK";
-}
-
-double medianOf(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  const size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  return v[mid];
 }
 
 }  // namespace
@@ -135,7 +129,8 @@ void SelfCheck::produce(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     std::lock_guard<std::mutex> lk(mu_);
     landmarks.swap(landmarks_);
   }
-  const double median_landmarks = medianOf(landmarks);
+  // The upper neighbour of the median for an even count.
+  const double median_landmarks = hapi_nodelet_kit::quantileRoundedPosition(landmarks, 0.5, std::nan(""));
 
   stat.add("landmarks per frame median", median_landmarks);
   stat.add("imu samples received in period", d.received);
