@@ -60,6 +60,52 @@ TEST(InertialModel, StepJacobianMatchesFiniteDifferences) {
   expectStepJacobianMatches(*m);
 }
 
+// The scanned surface's motion as states (docs/DESIGN.md "Scene motion
+// state"): the rows follow the calibration's, and the step's F and the
+// camera Jacobian, whose twist is now relative to the surface, match
+// central differences at a state where the surface moves and turns.
+TEST(InertialModel, SceneMotionJacobiansMatchFiniteDifferences) {
+  EskfSettings s = inertialSettings();
+  s.scene_motion = true;
+  EXPECT_EQ(poseDim(s), kInertialDim + kSceneMotionDim);
+  EXPECT_EQ(sceneMotionLayout(s).row, kInertialDim);
+  s.calib_cam_extrinsics = s.calib_cam_timeoffset = true;
+  EXPECT_EQ(sceneMotionLayout(s).row, kInertialDim + kCalibExtrinsicDim + kCalibTimeOffsetDim);
+  EXPECT_EQ(poseDim(s), kMaxPoseDim - kFrameErrorDim);
+  const auto m = makeMotionModel(s, sim::forwardCamera());
+  NominalState x = sim::someState();
+  x.u_s = Vec3(0.02, -0.03, 0.01);
+  x.w_s = Vec3(-0.05, 0.08, 0.12);
+  for (double dt : {0.005, 0.1}) {
+    const ImuSample imu{1.0, Vec3(0.9, -0.3, 1.4), Vec3(0.8, 9.4, -0.6)};
+    NominalState y;
+    PoseMat F, Q;
+    m->step(x, dt, &imu, &y, &F, &Q);
+    const Eigen::MatrixXd Fn = numericStepJacobian(*m, x, dt, imu);
+    EXPECT_LT((Fn - Eigen::MatrixXd(F)).cwiseAbs().maxCoeff(), 1e-7) << "dt " << dt << "\n" << Fn - F;
+  }
+  const Eigen::MatrixXd T = m->cameraStateJacobian(x);
+  Eigen::MatrixXd Tn = sim::numericCameraStateJacobian(*m, x);
+  const int t_d = m->calibration().time_offset;
+  Tn.col(t_d).setZero();  // the offset moves the camera along its motion, not camera(x)
+  Eigen::MatrixXd Ta = T;
+  Ta.col(t_d).setZero();
+  EXPECT_LT((Tn - Ta).cwiseAbs().maxCoeff(), 1e-7) << "\n" << Tn - Ta;
+  // A device moving with the surface is at rest relative to it.
+  NominalState along = sim::someState();
+  along.w_s = Vec3::Zero();
+  along.u_s = along.v;
+  along.w = along.b_g;  // no turn of its own
+  EXPECT_LT(m->camera(along).v.norm(), 1e-12);
+  // The surface's motion decays to its prior with the time constant.
+  NominalState y;
+  PoseMat F, Q;
+  m->step(x, s.scene_time_constant, nullptr, &y, &F, &Q);
+  EXPECT_NEAR(y.u_s.x(), x.u_s.x() * std::exp(-1.0), 1e-15);
+  EXPECT_NEAR(Q(sceneMotionLayout(s).row, sceneMotionLayout(s).row),
+              s.scene_velocity_sigma * s.scene_velocity_sigma * (1.0 - std::exp(-2.0)), 1e-15);
+}
+
 // The unobservable directions of the inertial state at (p, R, v, g): a
 // global translation (dp = I) and a global rotation (dp = -[p]x, dtheta =
 // R^T, dv = -[v]x, dg = -[g]x); docs/DESIGN.md "First-estimate Jacobians".
@@ -337,7 +383,7 @@ InertialRun runInertial(unsigned seed, double duration, const sim::ImuNoiseModel
   const sim::World world = sim::randomWorld(rng, 6000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
   const sim::InertialTrajectory traj;
   const CameraExtrinsic e = sim::forwardCamera();
-  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, kInertialDim), e);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), e);
   EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
   // The filter's world: gravity-aligned at the first camera position (the
   // truth's body starts level, so the yaw agrees).
@@ -405,42 +451,64 @@ TEST(InertialFilter, TracksTheTrajectoryAndTheBiasesConverge) {
 // camera relative to the surface and says the scene moves; without it
 // (disagreement_fraction 1) it believes the IMU and misses the motion.
 struct SceneMotionRun {
-  double rms_err = 0, motion_rms = 0;
+  double rms_err = 0, motion_rms = 0, rms_velocity_err = 0, velocity_rms = 0;
   int frames = 0, scene_moving = 0, vision_led = 0;
 };
 
-SceneMotionRun runMovingScene(double disagreement_fraction) {
+struct MovingScene {
+  double disagreement_fraction = 0.5;
+  bool scene_states = false;  // docs/DESIGN.md "Scene motion state"
+  // The scene's motion amplitude (1: 0.25 m and 0.05 rad, 0.39 m/s at
+  // most) and the world's extent: points up to 20 m away, or a near scene
+  // 0.15-0.6 m in front of the camera (HAPI's skin at 20-40 cm).
+  double scale = 1.0;
+  bool near = false;
+};
+
+SceneMotionRun runMovingScene(const MovingScene& m) {
   EskfSettings s = inertialSettings();
   s.max_landmarks = 300;
   s.max_new_landmarks = 30;
   s.max_update_landmarks = 60;
   s.ransac_iterations = 200;
-  s.disagreement_fraction = disagreement_fraction;
+  s.disagreement_fraction = m.disagreement_fraction;
+  s.scene_motion = m.scene_states;
+  s.scene_velocity_sigma = 0.8 * m.scale;
+  s.scene_rate_sigma = 0.16 * m.scale;
+  s.scene_time_constant = 1.0;
   std::mt19937 rng(21);
-  const sim::StereoRig rig;
-  const sim::World world = sim::randomWorld(rng, 6000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
+  sim::StereoRig rig;
+  if (m.near) rig.min_depth = 0.1, rig.max_depth = 1.0;
   sim::InertialTrajectory still;
   still.rest = 1e9;
   const sim::ImuNoiseModel noise;
   const CameraExtrinsic e = sim::forwardCamera();
-  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, kInertialDim), e);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), e);
   EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
   const PoseState cam0 = sim::cameraOf(still.at(0.0), e);
+  sim::World world = m.near ? sim::randomWorld(rng, 3000, Vec3(-0.3, -0.3, 0.15), Vec3(0.3, 0.3, 0.6))
+                            : sim::randomWorld(rng, 6000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
+  if (m.near)
+    for (Vec3& p : world.points) p = cam0.p + cam0.q * p;  // in front of the camera
+  // The scene (its frame = the filter's world at start) moves after 2 s:
+  // T_world_scene(t); the camera in the scene frame, relative to its start,
+  // is its inverse applied to the still camera.
+  auto cameraInScene = [&](double t) {
+    const double a = t > 2.0 ? m.scale * std::sin(M_PI * (t - 2.0)) : 0.0;
+    const Eigen::Quaterniond q_ws = quatExp(Vec3(0.0, 0.0, 0.05 * a));
+    const Vec3 p_ws(0.0, 0.25 * a, 0.1 * a);
+    PoseState cam;
+    cam.q = q_ws.conjugate() * cam0.q;
+    cam.p = q_ws.conjugate() * (cam0.p - p_ws) - cam0.p;
+    return cam;
+  };
   SceneMotionRun r;
   int k_imu = 1;
   for (int k = 1; k <= 100; ++k) {
     const double t = k * 0.1;
     for (; k_imu * 0.005 <= t + 1e-9; ++k_imu)
       EXPECT_EQ(f.addImu(sim::imuSample(still, noise, k_imu * 0.005, 0.005, rng)), Status::kOk);
-    // The scene (its frame = the filter's world at start) moves after 2 s:
-    // T_world_scene(t); the camera in the scene frame is its inverse applied
-    // to the still camera.
-    const double a = t > 2.0 ? std::sin(M_PI * (t - 2.0)) : 0.0;
-    const Eigen::Quaterniond q_ws = quatExp(Vec3(0.0, 0.0, 0.05 * a));
-    const Vec3 p_ws(0.0, 0.25 * a, 0.1 * a);
-    PoseState cam;  // the camera in the scene frame, relative to its start
-    cam.q = q_ws.conjugate() * cam0.q;
-    cam.p = q_ws.conjugate() * (cam0.p - p_ws) - cam0.p;
+    const PoseState cam = cameraInScene(t);
     PoseState cam_scene = cam;
     cam_scene.p += cam0.p;
     // Landmarks are fixed in the scene frame: measure them from the camera's
@@ -456,14 +524,19 @@ SceneMotionRun runMovingScene(double disagreement_fraction) {
     r.vision_led += rep.vision_led;
     r.rms_err += (f.pose().p - cam.p).squaredNorm();
     r.motion_rms += cam.p.squaredNorm();
+    // The camera's velocity relative to the scene, in the scene frame.
+    const Vec3 v_true = (cameraInScene(t + 1e-4).p - cameraInScene(t - 1e-4).p) / 2e-4;
+    r.rms_velocity_err += (f.pose().q * f.pose().v - v_true).squaredNorm();
+    r.velocity_rms += v_true.squaredNorm();
   }
-  r.rms_err = std::sqrt(r.rms_err / r.frames);
-  r.motion_rms = std::sqrt(r.motion_rms / r.frames);
+  for (double* x : {&r.rms_err, &r.motion_rms, &r.rms_velocity_err, &r.velocity_rms}) *x = std::sqrt(*x / r.frames);
   return r;
 }
 
 TEST(InertialFilter, FollowsTheSurfaceWhenTheSceneMovesAndTheDeviceIsStill) {
-  const SceneMotionRun on = runMovingScene(0.5), off = runMovingScene(1.0);
+  MovingScene check, none;
+  none.disagreement_fraction = 1.0;
+  const SceneMotionRun on = runMovingScene(check), off = runMovingScene(none);
   std::printf("moving scene: camera motion rms %.3f m; error with the check %.4f m (%d/%d frames scene moving), "
               "without %.4f m\n",
               on.motion_rms, on.rms_err, on.scene_moving, on.frames, off.rms_err);
@@ -472,6 +545,28 @@ TEST(InertialFilter, FollowsTheSurfaceWhenTheSceneMovesAndTheDeviceIsStill) {
   EXPECT_GT(on.scene_moving, on.frames / 2);
   EXPECT_EQ(off.vision_led, 0);
   EXPECT_GT(off.rms_err, 2.0 * on.rms_err);
+}
+
+// A near scene (15-60 cm away) moving at up to 8 cm/s under the held
+// device, with the surface's motion as states (docs/DESIGN.md "Scene motion
+// state"): the filter tracks the camera relative to the surface through its
+// own prediction, without vision-led frames, and its relative velocity is
+// better than the vision-led frames' displacement over the interval.
+TEST(InertialFilter, SceneMotionStatesTrackTheSurfaceWithoutVisionLeading) {
+  MovingScene states, led;
+  states.scene_states = true;
+  states.near = led.near = true;
+  states.scale = led.scale = 0.1;
+  const SceneMotionRun a = runMovingScene(states), b = runMovingScene(led);
+  std::printf("near moving scene: motion %.4f m, %.4f m/s rms; scene states: error %.4f m, %.4f m/s (%d vision-led "
+              "of %d frames); vision-led: %.4f m, %.4f m/s (%d)\n",
+              a.motion_rms, a.velocity_rms, a.rms_err, a.rms_velocity_err, a.vision_led, a.frames, b.rms_err,
+              b.rms_velocity_err, b.vision_led);
+  EXPECT_LT(a.rms_err, 0.1 * a.motion_rms);
+  EXPECT_LT(a.vision_led, a.frames / 10);
+  EXPECT_GT(b.vision_led, b.frames / 2);
+  EXPECT_LT(a.rms_velocity_err, 0.2 * a.velocity_rms);
+  EXPECT_LT(a.rms_velocity_err, b.rms_velocity_err);
 }
 
 // The chained prediction (Eskf::predictStepTo) applied to C once equals the
@@ -487,7 +582,7 @@ TEST(InertialFilter, ChainedPredictionEqualsStepByStep) {
   const sim::InertialTrajectory traj;
   const sim::ImuNoiseModel noise;
   const CameraExtrinsic e = sim::forwardCamera();
-  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, kInertialDim), e);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), e);
   ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
   int k = 1;
   for (; f.awaitingAlignment(); ++k) ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, 0.005 * k, 0.005, rng)), Status::kOk);

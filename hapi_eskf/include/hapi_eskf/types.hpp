@@ -28,15 +28,19 @@ using Mat9 = Eigen::Matrix<double, 9, 9>;
 //    the online calibration's rows when estimated (calibration_block.hpp):
 //    the camera-IMU extrinsic [dtheta_bc, dp_bc] (6) and the time offset
 //    [dt_d] (1), at most 18 + 7.
+//    The scanned surface's motion when estimated (docs/DESIGN.md "Scene
+//    motion state"): its velocity and angular rate [du_s, dw_s] (6) after
+//    the calibration's, at most 18 + 7 + 6.
 // A modelled frame-shared vision error adds 6 spare rows after them
-// (frame_error_block.hpp): at most 18 + 7 + 6.
+// (frame_error_block.hpp): at most 18 + 7 + 6 + 6.
 constexpr int kCameraMotionDim = 12;
 constexpr int kGyroDim = 15;
 constexpr int kInertialDim = 18;
 constexpr int kCalibExtrinsicDim = 6;
 constexpr int kCalibTimeOffsetDim = 1;
+constexpr int kSceneMotionDim = 6;
 constexpr int kFrameErrorDim = 6;
-constexpr int kMaxPoseDim = kInertialDim + kCalibExtrinsicDim + kCalibTimeOffsetDim + kFrameErrorDim;
+constexpr int kMaxPoseDim = kInertialDim + kCalibExtrinsicDim + kCalibTimeOffsetDim + kSceneMotionDim + kFrameErrorDim;
 constexpr int kIdxP = 0, kIdxTheta = 3, kIdxV = 6, kIdxW = 9;    // camera state
 constexpr int kIdxBg = 9, kIdxBa = 12, kIdxG = 15;               // inertial state
 constexpr int kIdxGyroBias = 12;                                  // gyro model's bias

@@ -464,7 +464,7 @@ Status Eskf::checkSceneMotion(FrameWork& w, bool* vision_leads) {
 Status Eskf::moveToMapFit(FrameWork& w, bool vision_leads) {
   const double stamp = w.frame->stamp;
   if (vision_leads && !relocaliser_.pending() && stamp > w.previous_stamp)
-    model_->correctVelocity(&state_, w.assoc.fit_t - pose().p, stamp - w.previous_stamp);
+    model_->correctVelocity(&state_, w.assoc.fit_t - pose().p, stamp - w.previous_stamp, w.rep.scene_moving);
   model_->moveCameraTo(&state_, w.assoc.fit_t, Eigen::Quaterniond(w.assoc.fit_R).normalized());
   restartFirstEstimates();
   w.rep.relocalised = relocaliser_.fitApplied();

@@ -2,10 +2,12 @@
 // prediction"): the IMU body state [p, theta, v, b_g, b_a, g] with the
 // standard quaternion ES-EKF step, and the left camera seen through the
 // camera-IMU extrinsic, with the online calibration's rows after them
-// (docs/DESIGN.md "Online calibration"). Error convention as everywhere in
+// (docs/DESIGN.md "Online calibration") and then the scanned surface's motion
+// (docs/DESIGN.md "Scene motion state"). Error convention as everywhere in
 // the filter:
 //   p = p^ + dp, R = R^ Exp(dtheta), v = v^ + dv, b = b^ + db, g = g^ + dg,
-//   R_bc = R_bc^ Exp(dtheta_bc), p_bc = p_bc^ + dp_bc, t_d = t_d^ + dt_d.
+//   R_bc = R_bc^ Exp(dtheta_bc), p_bc = p_bc^ + dp_bc, t_d = t_d^ + dt_d,
+//   u_s = u_s^ + du_s, w_s = w_s^ + dw_s.
 // Every Jacobian is checked against central finite differences in
 // test/test_motion_models.cpp.
 #include "hapi_eskf/eskf/motion_model.hpp"
@@ -20,12 +22,13 @@ using Mat12xP = Eigen::Matrix<double, 12, Eigen::Dynamic>;
 class InertialMotionModel final : public MotionModel {
  public:
   InertialMotionModel(const EskfSettings& s, const CameraExtrinsic& e)
-      : MotionModel(e), s_(s), calib_(calibrationLayout(s)), dim_(hapi_eskf::poseDim(s)) {}
+      : MotionModel(e), s_(s), calib_(calibrationLayout(s)), scene_(sceneMotionLayout(s)), dim_(hapi_eskf::poseDim(s)) {}
 
   MotionModelKind kind() const override { return MotionModelKind::kInertial; }
   int poseDim() const override { return dim_; }
   bool usesImu() const override { return true; }
   CalibrationLayout calibration() const override { return calib_; }
+  SceneMotionLayout sceneMotion() const override { return scene_; }
 
   // Body at rest under the camera, gravity straight down the world z axis
   // (the alignment, inertial_alignment.hpp, sets the real start); the
@@ -55,12 +58,18 @@ class InertialMotionModel final : public MotionModel {
     }
     if (calib_.time_offset >= 0)
       C(calib_.time_offset, calib_.time_offset) = s_.calib_time_offset_sigma * s_.calib_time_offset_sigma;
+    if (scene_.any()) {
+      var(scene_.row, s_.scene_velocity_sigma);
+      var(scene_.row + 3, s_.scene_rate_sigma);
+    }
     return C;
   }
 
   // R_wc = R_wb R_bc, p_wc = p + R_wb p_bc; the camera's angular rate is the
   // body's (w - b_g) in camera axes; its velocity adds the lever arm,
-  // v_wc = v + R_wb (omega x p_bc).
+  // v_wc = v + R_wb (omega x p_bc). With the surface's motion, both are
+  // relative to the surface: the rate less w_s, the velocity less the
+  // surface's at the camera, u_s + w_s x p_wc.
   PoseState camera(const NominalState& x) const override {
     const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = rotationBc(x);
     const Vec3& p_bc = translationBc(x);
@@ -70,6 +79,10 @@ class InertialMotionModel final : public MotionModel {
     c.p = x.p + R_wb * p_bc;
     c.w = R_bc.transpose() * omega;
     c.v = (R_wb * R_bc).transpose() * (x.v + R_wb * omega.cross(p_bc));
+    if (scene_.any()) {
+      c.w -= (R_wb * R_bc).transpose() * x.w_s;
+      c.v -= (R_wb * R_bc).transpose() * (x.u_s + x.w_s.cross(c.p));
+    }
     return c;
   }
 
@@ -97,6 +110,7 @@ class InertialMotionModel final : public MotionModel {
       T.block<3, 3>(6, kIdxBg) = Rcb * skew(p_bc);
       T.block<3, 3>(9, kIdxBg) = -Rcb;
     }
+    if (scene_.any()) addSceneColumns(x, &T);
     if (!calib_.any()) return T;
     const PoseState c = camera(x);
     if (calib_.extrinsic >= 0) {
@@ -104,7 +118,7 @@ class InertialMotionModel final : public MotionModel {
       T.block<3, 3>(0, e + 3) = R_wb;
       T.block<3, 3>(3, e).setIdentity();
       T.block<3, 3>(6, e) = skew(c.v);
-      T.block<3, 3>(6, e + 3) = Rcb * skew(rate(x));
+      T.block<3, 3>(6, e + 3) = Rcb * skew(rate(x)) - Rcb * R_wb.transpose() * skew(x.w_s) * R_wb;
       T.block<3, 3>(9, e) = skew(c.w);
     }
     if (calib_.time_offset >= 0) {
@@ -127,10 +141,20 @@ class InertialMotionModel final : public MotionModel {
     return out;
   }
 
-  void stop(NominalState* x) const override { x->v.setZero(); }
+  void stop(NominalState* x) const override {
+    x->v.setZero();
+    x->u_s.setZero();
+    x->w_s.setZero();
+  }
   // v is the body's world-frame velocity; the camera's displacement is the
-  // body's (rotation changes are taken by the pose).
-  void correctVelocity(NominalState* x, const Vec3& dp_world, double dt) const override { x->v += dp_world / dt; }
+  // body's (rotation changes are taken by the pose). A held device did not
+  // move: the surface did, by -dp_world (d/dt p = v - w_s x p - u_s).
+  void correctVelocity(NominalState* x, const Vec3& dp_world, double dt, bool scene_moving) const override {
+    if (scene_moving && scene_.any())
+      x->u_s -= dp_world / dt;
+    else
+      x->v += dp_world / dt;
+  }
 
   // With the sample (the midpoint of it and the previous one, or the last
   // one held; before any sample, a sample of a body at rest):
@@ -172,6 +196,7 @@ class InertialMotionModel final : public MotionModel {
     next->p = x.p + x.v * dt + a_w * dt2;
     next->v = x.v + a_w * dt;
     next->q = (x.q * quatExp(omega * dt)).normalized();
+    if (scene_.any()) stepScene(x, dt, next);
 
     const Mat3 I = Mat3::Identity(), Ra = -R * skew(a), Jr = rightJacobianSO3(omega * dt);
     *F = PoseMat::Identity(dim_, dim_);
@@ -208,6 +233,7 @@ class InertialMotionModel final : public MotionModel {
     }
     Q->block<3, 3>(kIdxBg, kIdxBg) = I * (s_.gyro_random_walk * s_.gyro_random_walk * dt);
     Q->block<3, 3>(kIdxBa, kIdxBa) = I * (s_.accel_random_walk * s_.accel_random_walk * dt);
+    if (scene_.any()) sceneTransition(x, *next, dt, F, Q);
   }
 
   // First estimates (docs/DESIGN.md "First-estimate Jacobians"): with the
@@ -243,6 +269,10 @@ class InertialMotionModel final : public MotionModel {
       x->p_bc += dx.segment<3>(calib_.extrinsic + 3);
     }
     if (calib_.time_offset >= 0) x->t_d += dx(calib_.time_offset);
+    if (scene_.any()) {
+      x->u_s += dx.segment<3>(scene_.row);
+      x->w_s += dx.segment<3>(scene_.row + 3);
+    }
   }
 
   Eigen::VectorXd errorBetween(const NominalState& x, const NominalState& x_hat) const override {
@@ -258,6 +288,10 @@ class InertialMotionModel final : public MotionModel {
       e.segment<3>(calib_.extrinsic + 3) = x.p_bc - x_hat.p_bc;
     }
     if (calib_.time_offset >= 0) e(calib_.time_offset) = x.t_d - x_hat.t_d;
+    if (scene_.any()) {
+      e.segment<3>(scene_.row) = x.u_s - x_hat.u_s;
+      e.segment<3>(scene_.row + 3) = x.w_s - x_hat.w_s;
+    }
     return e;
   }
 
@@ -266,6 +300,68 @@ class InertialMotionModel final : public MotionModel {
   // isotropic form: bit for bit the filter without the in-situ noise.
   static bool isotropic(const Vec3& d) { return d.x() == d.y() && d.y() == d.z(); }
   static Vec3 rate(const NominalState& x) { return x.has_imu ? Vec3(x.w - x.b_g) : Vec3::Zero(); }
+
+  // The surface's motion over a step (docs/DESIGN.md "Scene motion state"):
+  // the world frame turns by w_s and moves by u_s in the inertial one, so
+  // in it the device's pose and inertial velocity and gravity turn the
+  // other way, R' = Exp(-w_s dt) R Exp(omega dt), v' -= (w_s x v) dt,
+  // g' -= (w_s x g) dt, and the device moves relative to it,
+  // p' -= (w_s x p + u_s) dt; u_s and w_s decay by exp(-dt / tau).
+  void stepScene(const NominalState& x, double dt, NominalState* next) const {
+    next->q = (quatExp(-x.w_s * dt) * next->q).normalized();
+    next->p -= (x.w_s.cross(x.p) + x.u_s) * dt;
+    next->v -= x.w_s.cross(x.v) * dt;
+    next->g -= x.w_s.cross(x.g) * dt;
+    const double phi = std::exp(-dt / s_.scene_time_constant);
+    next->u_s = phi * x.u_s;
+    next->w_s = phi * x.w_s;
+  }
+
+  // stepScene's blocks of F and Q: the -[w_s]x dt terms on p, v and g, their
+  // w_s columns [p]x dt, [v]x dt, [g]x dt, u_s's -I dt on p, the rotation's
+  // -(R Exp(omega dt))^T J_r(-w_s dt) dt (the left turn seen in the body
+  // frame), and the Gauss-Markov decay phi with stationary variance
+  // sigma^2, Q = sigma^2 (1 - phi^2).
+  void sceneTransition(const NominalState& x, const NominalState& next, double dt, PoseMat* F, PoseMat* Q) const {
+    const int u = scene_.row, w = scene_.row + 3;
+    const Mat3 Ws = skew(x.w_s) * dt, I = Mat3::Identity();
+    F->block<3, 3>(kIdxP, kIdxP) -= Ws;
+    F->block<3, 3>(kIdxV, kIdxV) -= Ws;
+    F->block<3, 3>(kIdxG, kIdxG) -= Ws;
+    F->block<3, 3>(kIdxP, u) = -I * dt;
+    F->block<3, 3>(kIdxP, w) = skew(x.p) * dt;
+    F->block<3, 3>(kIdxV, w) = skew(x.v) * dt;
+    F->block<3, 3>(kIdxG, w) = skew(x.g) * dt;
+    const Mat3 R_turned = quatExp(-x.w_s * dt).conjugate() * next.q.toRotationMatrix();
+    F->block<3, 3>(kIdxTheta, w) = -R_turned.transpose() * rightJacobianSO3(-x.w_s * dt) * dt;
+    const double phi = std::exp(-dt / s_.scene_time_constant), keep = 1.0 - phi * phi;
+    F->block<3, 3>(u, u) = I * phi;
+    F->block<3, 3>(w, w) = I * phi;
+    Q->block<3, 3>(u, u) = I * (s_.scene_velocity_sigma * s_.scene_velocity_sigma * keep);
+    Q->block<3, 3>(w, w) = I * (s_.scene_rate_sigma * s_.scene_rate_sigma * keep);
+  }
+
+  // cameraStateJacobian's terms of the surface's motion, from camera()'s
+  // c.v -= R_cw y with y = u_s + w_s x p_wc (the surface's velocity at the
+  // camera) and c.w -= R_cw w_s, R_cw = R_bc^T R_wb^T:
+  //   dv_c += -R_cw [w_s]x dp + (-R_bc^T [R_wb^T y]x + R_cw [w_s]x R_wb [p_bc]x) dtheta
+  //           - R_cw du_s + R_cw [p_wc]x dw_s,
+  //   dw_c += -R_bc^T [R_wb^T w_s]x dtheta - R_cw dw_s
+  // (the extrinsic's dp_bc column in cameraStateJacobian).
+  void addSceneColumns(const NominalState& x, Mat12xP* T) const {
+    const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = rotationBc(x);
+    const Vec3& p_bc = translationBc(x);
+    const Mat3 R_cw = (R_wb * R_bc).transpose(), Rcb = R_bc.transpose();
+    const Vec3 p_c = x.p + R_wb * p_bc;
+    const Vec3 y = x.u_s + x.w_s.cross(p_c);  // the surface's velocity at the camera
+    const int u = scene_.row, w = scene_.row + 3;
+    T->block<3, 3>(6, kIdxP) -= R_cw * skew(x.w_s);
+    T->block<3, 3>(6, kIdxTheta) += -Rcb * skew(R_wb.transpose() * y) + R_cw * skew(x.w_s) * R_wb * skew(p_bc);
+    T->block<3, 3>(9, kIdxTheta) -= Rcb * skew(R_wb.transpose() * x.w_s);
+    T->block<3, 3>(6, u) = -R_cw;
+    T->block<3, 3>(6, w) = R_cw * skew(p_c);
+    T->block<3, 3>(9, w) = -R_cw;
+  }
   // The extrinsic camera(x) uses: the state's when calibrated, else the
   // configured one.
   const Mat3& rotationBc(const NominalState& x) const {
@@ -277,6 +373,7 @@ class InertialMotionModel final : public MotionModel {
 
   EskfSettings s_;
   CalibrationLayout calib_;
+  SceneMotionLayout scene_;
   int dim_;
 };
 

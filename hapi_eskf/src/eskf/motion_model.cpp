@@ -31,10 +31,19 @@ CalibrationLayout calibrationLayout(const EskfSettings& s) {
   return l;
 }
 
+SceneMotionLayout sceneMotionLayout(const EskfSettings& s) {
+  SceneMotionLayout l;
+  // As the calibration: the ES-EKF's inertial model only.
+  if (!s.scene_motion || s.motion_model != MotionModelKind::kInertial || s.backend_algorithm != BackendAlgorithm::kEskf)
+    return l;
+  l.row = kInertialDim + calibrationLayout(s).dim();
+  return l;
+}
+
 int poseDim(const EskfSettings& s) {
   switch (s.motion_model) {
     case MotionModelKind::kInertial:
-      return kInertialDim + calibrationLayout(s).dim();
+      return kInertialDim + calibrationLayout(s).dim() + sceneMotionLayout(s).dim();
     case MotionModelKind::kGyro:
       return kGyroDim;
     case MotionModelKind::kConstantVelocity:

@@ -54,7 +54,7 @@ class CameraStateMotionModel : public MotionModel {
     x->v.setZero();
     x->w.setZero();
   }
-  void correctVelocity(NominalState* x, const Vec3& dp_world, double dt) const override {
+  void correctVelocity(NominalState* x, const Vec3& dp_world, double dt, bool) const override {
     x->v += x->q.conjugate() * dp_world / dt;
   }
 

@@ -23,7 +23,9 @@ void PosePropagator::rebase(const SlamBackend& filter, bool scene_moving) {
   const Mat12 camera_C = hapi_eskf::cameraCovariance(*model_, x_, C_);
   relative_ = false;
   const double dt = time_ - previous_time_;
-  if (scene_moving && have_previous_ && dt > 0.0) {
+  // A filter that estimates the surface's motion reports the camera
+  // relative to the surface itself; the IMU-rate copy steps it as usual.
+  if (scene_moving && !model_->sceneMotion().any() && have_previous_ && dt > 0.0) {
     // Twist of the camera relative to the surface over the last frame
     // interval, in the camera frame (the filter's own v, w convention).
     // Its covariance treats the two poses as independent (an upper bound:

@@ -15,7 +15,9 @@
 //    quaternion ES-EKF); the camera pose follows through the camera-IMU
 //    extrinsic; with online calibration (settings calib_cam_*) the
 //    extrinsic [dtheta_bc, dp_bc] (6) and the time offset [dt_d] (1) follow
-//    as states (docs/DESIGN.md "Online calibration").
+//    as states (docs/DESIGN.md "Online calibration"); with scene_motion the
+//    surface's velocity and angular rate [u_s, w_s] (6) follow them
+//    (docs/DESIGN.md "Scene motion state").
 #pragma once
 
 #include "hapi_eskf/settings.hpp"
@@ -44,7 +46,10 @@ struct ImuNoiseDensity {
 //    angular rate of the twist output);
 //    R_bc, p_bc, t_d = the camera-IMU extrinsic (CameraExtrinsic's) and the
 //    time offset (imu_time_offset's meaning) as estimated: states when
-//    calibrated (CalibrationLayout), else the configured values, unused.
+//    calibrated (CalibrationLayout), else the configured values, unused;
+//    u_s, w_s = the scanned surface's velocity and angular rate in the
+//    inertial frame, expressed in the world (surface) frame: states with
+//    scene_motion (SceneMotionLayout), else zero.
 // IMU models: imu_noise = the IMU's in-situ noise (imu_noise_estimator.hpp),
 // not a state: the filter sets it at each frame, so the steps between two
 // frames (the filter's and its IMU-rate copy's) assume the same noise.
@@ -59,6 +64,7 @@ struct NominalState {
   Mat3 R_bc = Mat3::Identity();
   Vec3 p_bc = Vec3::Zero();
   double t_d = 0.0;  // [s]
+  Vec3 u_s = Vec3::Zero(), w_s = Vec3::Zero();
   ImuNoiseDensity imu_noise;
 };
 
@@ -77,6 +83,16 @@ struct CalibrationLayout {
   int dim() const { return (extrinsic >= 0 ? kCalibExtrinsicDim : 0) + (time_offset >= 0 ? kCalibTimeOffsetDim : 0); }
 };
 CalibrationLayout calibrationLayout(const EskfSettings& s);
+
+// Where the scanned surface's motion [du_s, dw_s] sits in the pose block (-1:
+// not estimated): after the calibration's rows, for the inertial model of
+// the ES-EKF with scene_motion.
+struct SceneMotionLayout {
+  int row = -1;  // u_s = u_s^ + du_s, w_s = w_s^ + dw_s
+  bool any() const { return row >= 0; }
+  int dim() const { return any() ? kSceneMotionDim : 0; }
+};
+SceneMotionLayout sceneMotionLayout(const EskfSettings& s);
 
 // The pose-block state an IMU-rate output continues from between frames
 // (pose_propagator.hpp, SlamBackend::poseBlockState): back ends whose motion model predicts with the IMU.
@@ -98,6 +114,7 @@ class MotionModel {
   virtual int poseDim() const = 0;
   virtual bool usesImu() const = 0;
   virtual CalibrationLayout calibration() const { return CalibrationLayout(); }
+  virtual SceneMotionLayout sceneMotion() const { return SceneMotionLayout(); }
 
   // The state at the start, from the camera pose (p, q; v, w as given for
   // the camera models, zero otherwise) and, for the inertial model, the
@@ -114,14 +131,18 @@ class MotionModel {
     PoseMat C = initialCovariance();
     C.topRows(6).setZero();
     C.leftCols(6).setZero();
-    const int n_calib = calibration().dim();
-    C.bottomRows(n_calib).setZero();
-    C.rightCols(n_calib).setZero();
+    const CalibrationLayout calib = calibration();
+    if (calib.any()) {
+      const int first = calib.extrinsic >= 0 ? calib.extrinsic : calib.time_offset;
+      C.middleRows(first, calib.dim()).setZero();
+      C.middleCols(first, calib.dim()).setZero();
+    }
     return C;
   }
 
   // The camera as a measurement sees it: pose in the world, camera-frame
-  // linear and angular velocity.
+  // linear and angular velocity (relative to the world, i.e. to the
+  // surface when its motion is estimated).
   virtual PoseState camera(const NominalState& x) const = 0;
   // d(camera error [dp, dtheta, dv, dw] of camera(x), in the camera models'
   // convention) / d(state error), 12 x P: maps the state covariance to the
@@ -149,7 +170,9 @@ class MotionModel {
   // the prediction over the last dt [s] put it: the velocity mean takes the
   // difference, v += dp_world / dt (IMU and vision disagreement,
   // scene_motion_monitor.hpp: the velocity is what made the prediction miss).
-  virtual void correctVelocity(NominalState* x, const Vec3& dp_world, double dt) const = 0;
+  // scene_moving (the device is held still): a model that estimates the
+  // surface's motion gives the difference to the surface instead.
+  virtual void correctVelocity(NominalState* x, const Vec3& dp_world, double dt, bool scene_moving) const = 0;
 
   // One step of length dt > 0, with the sample (a model without IMU ignores
   // it) or without (nullptr: the camera models' constant velocity, the
