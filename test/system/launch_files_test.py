@@ -91,6 +91,9 @@ class LaunchFilesTest(unittest.TestCase):
                          ("/stereo/left/image_raw", "/stereo/left/camera_info"))
         cfg = load("server.launch")
         self.assertEqual(cfg.params["/surface/world_frame"].value, "map")
+        # The surface's own motion: the config's unless asked for.
+        self.assertIs(cfg.params["/eskf/scene_motion"].value, False)
+        self.assertIs(load("server.launch", "scene_motion:=true").params["/eskf/scene_motion"].value, True)
         self.assertNotIn("/surface/voxel_size", cfg.params)
         globe = load("server.launch", "surface_config:=" + os.path.join(LAUNCH, "..", "config", "surface_globe.yaml"))
         self.assertGreater(globe.params["/surface/voxel_size"].value, 0.0005)
