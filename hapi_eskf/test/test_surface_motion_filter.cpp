@@ -1,7 +1,8 @@
 // The fusion filter and its smoother (docs/DESIGN.md "Surface motion",
 // fusion) on synthetic scans (surface_motion_scene.hpp): the output follows
 // the skin, corrects the odometry's velocity error, the smoother beats the
-// causal output, the covariance is consistent; bad flows change nothing.
+// causal output, the covariance is consistent; bad flows change nothing; a
+// flow fused at once gives the newest output again.
 #include "hapi_eskf/surface_motion/surface_motion_estimator.hpp"
 
 #include "surface_motion_scene.hpp"
@@ -225,6 +226,25 @@ TEST(SurfaceMotionFilter, StatusesWithoutCameraOrMapAndFlowsHeldForTheOdometry) 
   EXPECT_EQ(out->status, MotionStatus::kOk);
   EXPECT_TRUE(out->flow_fused);
   EXPECT_GT(out->velocity.surface_velocity.x(), 0);  // the skin moved right
+  EXPECT_FALSE(est.outputWithNewFlows());  // that output carried it already
+
+  // A flow that comes after the odometry covered its stamp is fused at once,
+  // and the newest instant's output is given again with it, once.
+  o.t = 1.06;
+  const auto before = est.addOdometry(o);
+  EXPECT_FALSE(est.outputWithNewFlows());
+  f.t_prev = 1.025;
+  f.t = 1.05;
+  EXPECT_EQ(est.addFlow(f), FlowOutcome::kFused);
+  const auto again = est.outputWithNewFlows();
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->t, before->t);
+  EXPECT_TRUE(again->flow_fused);
+  EXPECT_FALSE(before->flow_fused);
+  EXPECT_NE(again->velocity.surface_velocity.x(), before->velocity.surface_velocity.x());
+  EXPECT_FALSE(est.outputWithNewFlows());
+  o.t = 1.065;
+  EXPECT_FALSE(est.addOdometry(o)->flow_fused);
 }
 
 }  // namespace

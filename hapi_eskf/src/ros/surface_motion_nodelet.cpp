@@ -106,6 +106,7 @@ void SurfaceMotionNodelet::flowCallback(const hapi_msgs::ImageFlowConstPtr& msg)
   const bool bad = (o == surface_motion::FlowOutcome::kInvalid && msg->status == hapi_msgs::ImageFlow::STATUS_OK) ||
                    o == surface_motion::FlowOutcome::kOutOfOrder;
   if (bad) NODELET_ERROR_THROTTLE(2.0, "flow dropped (%s): %s", surface_motion::toString(o), why.c_str());
+  if (const auto out = estimator_->outputWithNewFlows()) publish(*out, ros::Time(out->t));
 }
 
 std::string SurfaceMotionNodelet::extrinsic(const std::string& child, Eigen::Isometry3d* T) {

@@ -134,6 +134,14 @@ std::optional<SurfaceMotionOutput> SurfaceMotionEstimator::addOdometry(const Cam
   return makeOutput(c, filter_.e(), filter_.covariance());
 }
 
+std::optional<SurfaceMotionOutput> SurfaceMotionEstimator::outputWithNewFlows() {
+  if (!fused_since_output_ || contexts_.empty()) return std::nullopt;
+  fused_since_output_ = false;
+  Context& c = contexts_.back();
+  c.flow_fused = true;
+  return makeOutput(c, filter_.e(), filter_.covariance());
+}
+
 SurfaceMotionOutput SurfaceMotionEstimator::makeOutput(const Context& c, const Vec3& e, const Mat3& P) const {
   SurfaceMotionOutput out = statusOutput(c.t, c.status, c.message);
   out.flow_fused = c.flow_fused;

@@ -68,6 +68,12 @@ class SurfaceMotionEstimator {
   FlowOutcome addFlow(const FlowMeasurement& f, std::string* why = nullptr);
   // Outcomes of held flows decided by the last addOdometry.
   const std::vector<FlowOutcome>& pendingOutcomes() const { return pending_outcomes_; }
+  // The output at the newest odometry instant again, with the flows fused
+  // since its first output (flow_fused); empty when none was fused or there
+  // is no odometry. A flow that arrives after the odometry covered its
+  // stamp is fused at once: this output carries it without waiting for the
+  // next odometry sample (up to one IMU period of latency less).
+  std::optional<SurfaceMotionOutput> outputWithNewFlows();
   // Stamp of the newest flow fused (its later frame's), if any: the output
   // that first carries it (flow_fused) measures the flow's latency.
   std::optional<double> lastFusedFlowStamp() const { return last_fused_t_; }
