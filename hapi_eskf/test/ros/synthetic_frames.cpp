@@ -4,6 +4,20 @@
 
 namespace hapi_eskf_test {
 
+sensor_msgs::CameraInfo stereoCameraInfo(bool right, const std::string& frame_id) {
+  sensor_msgs::CameraInfo c;
+  c.header.frame_id = frame_id;
+  c.width = 640;
+  c.height = 480;
+  c.distortion_model = "plumb_bob";
+  c.D.assign(5, 0.0);
+  c.K = {kCameraInfoFocal, 0, 320, 0, kCameraInfoFocal, 240, 0, 0, 1};
+  c.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  c.P = {kCameraInfoFocal, 0, 320, right ? -kCameraInfoFocal * kCameraInfoBaseline : 0.0,
+         0, kCameraInfoFocal, 240, 0, 0, 0, 1, 0};
+  return c;
+}
+
 SyntheticScene::SyntheticScene(int n_points, unsigned seed, double sigma) : rng_(seed), sigma_(sigma) {
   std::uniform_real_distribution<double> ux(-3.0, 3.0), uy(-2.0, 2.0), uz(3.0, 7.0);
   std::uniform_int_distribution<int> byte(0, 255);
