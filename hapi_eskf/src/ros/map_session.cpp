@@ -100,6 +100,7 @@ map_file::MapError MapSession::read(const std::string& path, int descriptor_type
   *landmarks = map->landmarks.size();
   map_ = std::move(map);
   map_path_ = path;
+  state_ = State::kWaiting;  // from now until a frame relocalises in it
   ROS_INFO_NAMED(log_name_, "map '%s' read: %zu landmarks in frame '%s'%s", path.c_str(), *landmarks,
                  map_->map_frame.c_str(),
                  have_calibration ? "" : "; calibration compared at the first frame with camera_info");
