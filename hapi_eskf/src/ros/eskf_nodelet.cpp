@@ -406,8 +406,7 @@ bool EskfNodelet::process(Work& w) {
     }
     need_init_ = false;
     // A loaded map is the filter's world: published as it is, unanchored.
-    if (map_session_->loadInto(backend_.get(), w.frame.descriptor_length))
-      output_->setMapAnchor(Eigen::Isometry3d::Identity());
+    if (map_session_->loadInto(backend_.get(), w.frame.descriptor_length)) output_->unanchorMap();
     if (imu_) imu_->dropUpTo(stamp);  // samples before the first frame are not needed
   } else if (imu_) {
     applyImu(stamp);
