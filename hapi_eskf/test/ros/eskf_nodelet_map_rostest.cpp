@@ -213,10 +213,7 @@ int main(int argc, char** argv) {
   obs = &o;
   ros::Publisher p = nh.advertise<hapi_msgs::StereoLandmarks>("/eskf/landmarks", 100);
   pub = &p;
-  ros::Publisher left_info = nh.advertise<sensor_msgs::CameraInfo>("/eskf/left/camera_info", 1, true);
-  ros::Publisher right_info = nh.advertise<sensor_msgs::CameraInfo>("/eskf/right/camera_info", 1, true);
-  left_info.publish(hapi_eskf_test::stereoCameraInfo(false, kFrame));
-  right_info.publish(hapi_eskf_test::stereoCameraInfo(true, kFrame));
+  const auto camera_info = hapi_eskf_test::latchStereoCameraInfo(nh, kFrame);
   hapi_eskf_test::SyntheticScene sc;
   scene = &sc;
   t0 = ros::Time::now();

@@ -485,10 +485,7 @@ int main(int argc, char** argv) {
   hapi_eskf_test::SyntheticScene sc;
   scene = &sc;
   // The stereo calibration a saved map records.
-  ros::Publisher left_info = nh.advertise<sensor_msgs::CameraInfo>("/eskf/left/camera_info", 1, true);
-  ros::Publisher right_info = nh.advertise<sensor_msgs::CameraInfo>("/eskf/right/camera_info", 1, true);
-  left_info.publish(hapi_eskf_test::stereoCameraInfo(false, kFrame));
-  right_info.publish(hapi_eskf_test::stereoCameraInfo(true, kFrame));
+  const auto camera_info = hapi_eskf_test::latchStereoCameraInfo(nh, kFrame);
   t0 = ros::Time::now();
   // Give our subscriptions time to connect before anything is published.
   waitFor([&] { return o.connected(); }, 30.0);
