@@ -16,7 +16,8 @@ namespace hapi_eskf {
 namespace map_file {
 
 // Why a map cannot be loaded with these settings (kBadValue naming the
-// setting): only the ES-EKF loads maps, not with the inertial model (its
+// setting): only backend_algorithm eskf loads maps (the tested one; seif
+// runs in the same filter but is not tested with a map), not with the inertial model (its
 // gravity alignment empties the pool), only with RANSAC on (the fit that
 // places the camera), and the map must leave max_new_landmarks free in the
 // pool. Empty when it can.
@@ -26,8 +27,8 @@ MapError checkLoadable(const MapData& map, const EskfSettings& settings);
 // world to (the published map frame: positions moved, covariances rotated).
 // `header` gives everything but the landmarks (frames, calibration,
 // creation time); the gravity direction is the filter's when its motion
-// model estimates gravity, else none. kBadValue when `backend` is not the
-// ES-EKF or its pool is empty; *skipped counts landmarks a reader would
+// model estimates gravity, else none. kBadValue when `backend` is not an
+// Eskf (eskf, seif) or its pool is empty; *skipped counts landmarks a reader would
 // refuse (left out).
 MapError mapFromBackend(const SlamBackend& backend, const Eigen::Isometry3d& T_out_world, const MapData& header,
                         MapData* out, int* skipped);
