@@ -2,7 +2,7 @@
 """Two sessions of the whole system (launch/replay.launch) on the same
 simulated scene (docs/DESIGN.md "Map file"):
 
-  map_sessions_test.py SESSION1_BAG SESSION2_BAG
+  map_sessions_test.py SESSION1_BAG SESSION2_BAG [OTHER_BAG]
 
 Session 1 replays SESSION1_BAG and saves its map through /eskf/save_map.
 Session 2 starts with ~map_file set to that map on SESSION2_BAG, whose
@@ -14,7 +14,9 @@ hint. It passes when
   * after T, its odometry lies within MAX_POSITION_ERROR of the truth
     expressed in session 1's map frame (the two bags' truths share the
     scene frame; session 1's map frame is its first camera pose, found from
-    its first odometry), and covers most of the rest of the bag.
+    its first odometry), and covers most of the rest of the bag;
+  * with OTHER_BAG (the same scene with another texture), a third session
+    with session 1's map never relocalises and publishes no odometry.
 Both sessions run the constant-velocity model (the inertial model does not
 load maps). Exit 0 pass, 1 fail.
 """
@@ -41,6 +43,7 @@ from std_srvs.srv import Trigger
 # tracks from its own start instead (the two starts are ~11 cm apart).
 MAX_POSITION_ERROR = 0.02  # [m], every pose after relocalisation
 MIN_COVERAGE = 0.6         # fraction of session 2's frames after T with odometry
+MIN_OTHER_HELD = 20        # of the other scene's 40 frames: it was seen, and held back
 RELOCALISED = re.compile(r"relocalised in the loaded map at ([0-9.]+)")
 
 
@@ -80,12 +83,14 @@ class Watch:
 
     def __init__(self):
         self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
+        self.held = 0  # the filter's frames_relocalising
         rospy.Subscriber("/eskf/odom", Odometry, self.on_odom, queue_size=1000)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=100)
         rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=10)
 
     def clear(self):
         self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
+        self.held = 0
 
     def on_odom(self, m):
         self.odom.append((m.header.stamp.to_sec(), pose_matrix(m.pose.pose.position, m.pose.pose.orientation)))
@@ -95,6 +100,8 @@ class Watch:
             for kv in s.values:
                 if kv.key == "relocalisation":
                     self.states.append(kv.value)
+                elif kv.key == "frames_relocalising":
+                    self.held = int(kv.value)
 
     def on_clock(self, m):
         if self.clock != m.clock:
@@ -161,8 +168,24 @@ def check_session2(watch, truth1, truth2, T_map_world, frames):
     return failures
 
 
+def check_other_scene(watch):
+    """Session 3: the map of another texture must never place the camera."""
+    print("other scene: relocalisation states %s, %d frames held back" % (sorted(set(watch.states)), watch.held))
+    failures = []
+    if watch.held < MIN_OTHER_HELD:
+        failures.append("only %d frames of the other scene reached the filter" % watch.held)
+    if not watch.states:
+        failures.append("the other scene's session reported no relocalisation state")
+    if any(RELOCALISED.match(x) for x in watch.states):
+        failures.append("relocalised in the map of another texture")
+    if watch.odom:
+        failures.append("%d odometry messages in the map of another texture" % len(watch.odom))
+    return failures
+
+
 def main():
     bag1, bag2 = sys.argv[1:3]
+    other_bag = sys.argv[3] if len(sys.argv) > 3 else ""
     truth1, truth2 = read_truth(bag1), read_truth(bag2)
     start_offset = np.linalg.inv(truth1[1][0]) @ truth2[1][0]
     print("session 2 starts %.1f mm and %.1f deg from session 1's start"
@@ -197,6 +220,9 @@ def main():
         T_map_world = T_map_cam1 @ np.linalg.inv(truth_at(truth1, t1))
         stop(run_session(watch, bag2, map_path))
         failures = check_session2(watch, truth1, truth2, T_map_world, frame_count(bag2))
+        if other_bag:
+            stop(run_session(watch, other_bag, map_path))
+            failures += check_other_scene(watch)
     finally:
         if map_path:
             for p in (map_path, map_path[:-4] + "ply"):
