@@ -176,6 +176,10 @@ bool MapSession::header(const std::string& camera_frame, uint8_t descriptor_type
 
 void MapSession::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) const {
   std::lock_guard<std::mutex> lk(mu_);
+  if (state_ == State::kWaiting)
+    stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::OK, "waiting to relocalise in the loaded map");
+  else if (!map_ && !last_failure_.empty())
+    stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::WARN, "map not loaded: %s", last_failure_.c_str());
   stat.add("map_file", map_ ? map_path_ : std::string("none"));
   switch (state_) {
     case State::kNoMap: stat.add("relocalisation", "no map loaded"); break;

@@ -98,6 +98,11 @@ TEST(EskfNodeletMap, BadMapFileAtStartUpLeavesTheNodeRunningWithoutAMap) {
   EXPECT_NE(diagText("last_map_load_failure").find("io:"), std::string::npos) << diagText("last_map_load_failure");
   EXPECT_EQ(diagText("relocalisation"), "no map loaded");
   EXPECT_EQ(diagText("map_file"), "none");
+  std::lock_guard<std::mutex> lk(obs->mu);
+  const diagnostic_msgs::DiagnosticStatus& filter = obs->statuses["eskf: filter"];
+  EXPECT_EQ(filter.level, diagnostic_msgs::DiagnosticStatus::WARN);
+  EXPECT_NE(filter.message.find("map not loaded: '/nonexistent/hapi_map.hmap': io:"), std::string::npos)
+      << filter.message;
 }
 
 TEST(EskfNodeletMap, SaveMapWritesAMapFileWithTheCalibration) {

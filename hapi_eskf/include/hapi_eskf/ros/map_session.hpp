@@ -74,7 +74,9 @@ class MapSession {
   bool header(const std::string& camera_frame, uint8_t descriptor_type, uint32_t descriptor_length,
               const std::optional<CameraExtrinsic>& imu_cam, map_file::MapData* out, std::string* why) const;
 
-  // --- diagnostics timer: keys map_file, relocalisation, map_loads, map_load_failures ---
+  // --- diagnostics timer: keys map_file, relocalisation, map_loads,
+  // map_load_failures, last_map_load_failure; the summary says when the
+  // filter waits for the map (OK) or a map failed and none is loaded (WARN) ---
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) const;
 
  private:
