@@ -3,6 +3,7 @@
 #include "hapi_eskf/eskf/storage_factory.hpp"
 #include "hapi_eskf/ros/eskf_nodelet.hpp"
 
+#include "hapi_eskf/map_file/map_session.hpp"
 #include "hapi_eskf/ros/conversions.hpp"
 #include "hapi_eskf/slam_backend_factory.hpp"
 
@@ -28,8 +29,11 @@ EskfNodelet::~EskfNodelet() {
   diag_timer_.stop();
   landmarks_in_.shutdown();
   imu_in_.shutdown();
+  left_info_in_.shutdown();
+  right_info_in_.shutdown();
   reset_srv_.shutdown();
   save_map_srv_.shutdown();
+  load_map_srv_.shutdown();
   save_traj_srv_.shutdown();
   refine_srv_.shutdown();
   stop_ = true;
@@ -68,9 +72,13 @@ void EskfNodelet::onInit() {
                                                                getName());
   map_ = std::make_unique<ros_glue::MapPublisher>(params_, pnh.advertise<sensor_msgs::PointCloud2>("map", 1, true),
                                                   getName());
+  map_session_ = std::make_unique<ros_glue::MapSession>(params_, getName());
+  std::size_t map_landmarks = 0;
+  if (!params_.map_file.empty()) map_session_->read(params_.map_file, -1, &map_landmarks);  // a fault is reported
 
   reset_srv_ = pnh.advertiseService("reset", &EskfNodelet::resetService, this);
   save_map_srv_ = pnh.advertiseService("save_map", &ros_glue::MapPublisher::save, map_.get());
+  load_map_srv_ = pnh.advertiseService("load_map", &EskfNodelet::loadMapService, this);
   save_traj_srv_ = pnh.advertiseService("save_trajectory", &ros_glue::TrajectoryRecorder::save, trajectory_.get());
   refiner_ = std::make_unique<ros_glue::GraphRefiner>(params_, getName());
   refine_srv_ = pnh.advertiseService("refine", &ros_glue::GraphRefiner::refine, refiner_.get());
@@ -79,6 +87,7 @@ void EskfNodelet::onInit() {
   updater_->setHardwareID(kHardwareId);
   updater_->add(kStatusName, [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stats_->diagnose(stat, mailbox_.dropped(), landmarks_in_.resubscriptions() + imu_in_.resubscriptions());
+    map_session_->diagnose(stat);
   });
   updater_->add(kSelfCheckName, self_check_.get(), &ros_glue::SelfCheck::produce);
   diag_timer_ = nh.createWallTimer(ros::WallDuration(params_.diagnostics_period),
@@ -92,6 +101,8 @@ void EskfNodelet::onInit() {
   // The ROS queue only has to absorb a burst until the (fast) callback runs;
   // rate mismatch is handled by the mailbox, where drops are counted.
   const double max_wait = 2 * params_.input_timeout;
+  left_info_in_ = pnh.subscribe("left/camera_info", 1, &ros_glue::MapSession::leftInfo, map_session_.get());
+  right_info_in_ = pnh.subscribe("right/camera_info", 1, &ros_glue::MapSession::rightInfo, map_session_.get());
   landmarks_in_.start(
       nh,
       [this, pnh]() mutable {
@@ -221,6 +232,34 @@ void EskfNodelet::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
 }
 
 bool EskfNodelet::resetService(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  res.success = requestReset();
+  res.message = res.success ? "filter reset; the next frame initialises it" : "worker did not acknowledge the reset";
+  return true;
+}
+
+// A good map becomes the session's map and the filter restarts, so that the
+// next frame starts it in the map; a bad one leaves everything as it was.
+bool EskfNodelet::loadMapService(hapi_msgs::LoadMap::Request& req, hapi_msgs::LoadMap::Response& res) {
+  int descriptor_type = -1;
+  {
+    std::lock_guard<std::mutex> lk(input_mu_);
+    if (validation_.descriptor_length > 0) descriptor_type = validation_.descriptor_type;
+  }
+  std::size_t landmarks = 0;
+  const map_file::MapError err = map_session_->read(req.path, descriptor_type, &landmarks);
+  res.success = !err && requestReset();
+  res.landmarks = res.success ? static_cast<std::uint32_t>(landmarks) : 0;
+  if (err)
+    res.message = err.message;
+  else if (!res.success)
+    res.message = "map read, but the worker did not acknowledge the reset";
+  else
+    res.message = "map read (" + std::to_string(landmarks) +
+                  " landmarks); the next frame starts the filter in it, output resumes once it relocalises";
+  return true;
+}
+
+bool EskfNodelet::requestReset() {
   const std::uint64_t target = ++epoch_;
   {
     std::lock_guard<std::mutex> lk(input_mu_);
@@ -229,9 +268,7 @@ bool EskfNodelet::resetService(std_srvs::Trigger::Request&, std_srvs::Trigger::R
   // The worker resets within one loop period (it wakes at least every 50 ms).
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(2.0);
   while (worker_epoch_.load() < target && ros::WallTime::now() < deadline) ros::WallDuration(0.005).sleep();
-  res.success = worker_epoch_.load() >= target;
-  res.message = res.success ? "filter reset; the next frame initialises it" : "worker did not acknowledge the reset";
-  return true;
+  return worker_epoch_.load() >= target;
 }
 
 // ------------------------------------------------------------------- worker
@@ -368,6 +405,8 @@ bool EskfNodelet::process(Work& w) {
       return false;
     }
     need_init_ = false;
+    // A loaded map is the filter's world: published as it is, unanchored.
+    if (map_session_->loadInto(backend_.get(), w.frame.descriptor_length)) output_->unanchorMap();
     if (imu_) imu_->dropUpTo(stamp);  // samples before the first frame are not needed
   } else if (imu_) {
     applyImu(stamp);
@@ -396,15 +435,22 @@ bool EskfNodelet::process(Work& w) {
     return false;
   }
   ++count.frames_processed;
+  const bool in_loaded_map = map_session_->waiting();
+  map_session_->onFrame(rep, stamp);
   if (rep.relocalised) {
     ++count.relocalisations;
-    NODELET_WARN("relocalised against the map at %.3f after an input gap (EskfSettings relocalise_gap)", stamp);
+    if (!in_loaded_map)
+      NODELET_WARN("relocalised against the map at %.3f after an input gap (EskfSettings relocalise_gap)", stamp);
   }
   if (rep.relocalising) {
-    // Lost after an input gap: the pose is a stale prediction, so nothing is
-    // published until a frame the map supports has relocalised the filter.
+    // Lost after an input gap, or not yet placed in a loaded map: the pose
+    // is not known in the map, so nothing is published until a frame the
+    // map supports has relocalised the filter.
     ++count.frames_relocalising;
-    NODELET_WARN_THROTTLE(1.0, "lost after an input gap: waiting for a frame the map supports (no output)");
+    if (in_loaded_map)
+      NODELET_INFO_THROTTLE(2.0, "waiting to relocalise in the loaded map (no output)");
+    else
+      NODELET_WARN_THROTTLE(1.0, "lost after an input gap: waiting for a frame the map supports (no output)");
     return true;
   }
   if (rep.vision_led) ++count.frames_vision_led;
@@ -467,7 +513,35 @@ void EskfNodelet::takeSnapshot() {
         if (!backend_ || need_init_) return std::vector<ros_glue::MapPoint>{};
         return ros_glue::toMapPoints(backend_->landmarks(), output_->mapFromWorld());
       },
-      last_stamp_);
+      [this] { return fileMap(); }, last_stamp_);
+}
+
+ros_glue::FileMap EskfNodelet::fileMap() {
+  ros_glue::FileMap out;
+  if (!backend_ || need_init_) {
+    out.error = "the filter has not started";
+    return out;
+  }
+  std::uint8_t descriptor_type = 0;
+  std::uint32_t descriptor_length = 0;
+  std::string camera_frame;
+  {
+    std::lock_guard<std::mutex> lk(input_mu_);
+    camera_frame = camera_frame_;
+    descriptor_type = validation_.descriptor_type;
+    descriptor_length = validation_.descriptor_length;
+  }
+  map_file::MapData header;
+  if (!map_session_->header(camera_frame, descriptor_type, descriptor_length,
+                            imu_ ? imu_->extrinsic() : std::nullopt, &header, &out.error))
+    return out;
+  int skipped = 0;
+  if (const map_file::MapError e =
+          map_file::mapFromBackend(*backend_, output_->mapFromWorld(), header, &out.map, &skipped))
+    out.error = e.message;
+  else if (skipped > 0)
+    NODELET_WARN("~save_map: %d landmarks left out (covariance no longer positive definite)", skipped);
+  return out;
 }
 
 }  // namespace hapi_eskf

@@ -2,6 +2,7 @@
 // which thread calls what).
 #include "hapi_eskf/ros/map_publisher.hpp"
 
+#include "hapi_eskf/map_file/map_writer.hpp"
 #include "hapi_eskf/ros/export.hpp"
 
 #include <ros/console.h>
@@ -24,14 +25,22 @@ bool MapPublisher::snapshotDue() {
   return requested_.exchange(false) || (ros::WallTime::now() - last_snapshot_wall_).toSec() >= period_;
 }
 
-void MapPublisher::takeSnapshot(const std::function<std::vector<MapPoint>()>& read_map, const ros::Time& stamp) {
+void MapPublisher::takeSnapshot(const std::function<std::vector<MapPoint>()>& read_map,
+                                const std::function<FileMap()>& read_file_map, const ros::Time& stamp) {
   last_snapshot_wall_ = ros::WallTime::now();
+  const bool for_save = save_requested_.exchange(false);
   auto pts = std::make_shared<const std::vector<MapPoint>>(read_map());
+  std::shared_ptr<const FileMap> file_map;
+  if (for_save) file_map = std::make_shared<const FileMap>(read_file_map());
   {
     std::lock_guard<std::mutex> lk(mu_);
     snapshot_ = std::move(pts);
     snapshot_stamp_ = stamp;
     ++generation_;
+    if (file_map) {
+      file_map_ = std::move(file_map);
+      ++file_generation_;
+    }
   }
   cv_.notify_all();
 }
@@ -60,32 +69,46 @@ void MapPublisher::close() {
   cv_.notify_all();
 }
 
-bool MapPublisher::waitForSnapshot(std::uint64_t after, Snapshot* out) {
+bool MapPublisher::waitForSnapshot(std::uint64_t after, Snapshot* out, std::shared_ptr<const FileMap>* file_map) {
+  save_requested_ = true;
   requested_ = true;
   std::unique_lock<std::mutex> lk(mu_);
-  cv_.wait_for(lk, std::chrono::seconds(2), [&] { return generation_ > after || closed_; });
+  cv_.wait_for(lk, std::chrono::seconds(2), [&] { return file_generation_ > after || closed_; });
   *out = snapshot_;
-  return generation_ > after;
+  *file_map = file_map_;
+  return file_generation_ > after;
 }
 
 bool MapPublisher::save(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   std::uint64_t gen;
   {
     std::lock_guard<std::mutex> lk(mu_);
-    gen = generation_;
+    gen = file_generation_;
   }
   Snapshot snap;
-  if (!waitForSnapshot(gen, &snap)) {
+  std::shared_ptr<const FileMap> file_map;
+  if (!waitForSnapshot(gen, &snap, &file_map)) {
     res.success = false;
     res.message = "no fresh map snapshot from the worker within 2 s";
     return true;
   }
-  const std::string path = timestampedPath(output_dir_, "hapi_map", "ply");
-  const std::string err = writePly(path, snap ? *snap : std::vector<MapPoint>{});
+  // One name for both files: <stem>.hmap (the map to load) and <stem>.ply.
+  const std::string map_path = timestampedPath(output_dir_, "hapi_map", "hmap");
+  const std::string ply_path = map_path.substr(0, map_path.size() - 4) + "ply";
+  std::string err = writePly(ply_path, snap ? *snap : std::vector<MapPoint>{});
+  if (err.empty()) {
+    err = file_map->error;
+    if (err.empty()) {
+      const map_file::MapError e = map_file::writeMapFile(map_path, file_map->map);
+      if (e) err = e.message;
+    }
+    if (!err.empty()) err = "map file not written (" + err + "); the points are in " + ply_path;
+  }
   res.success = err.empty();
-  res.message = res.success ? path : err;
+  res.message = res.success ? map_path : err;
   if (res.success)
-    ROS_INFO_NAMED(log_name_, "saved %zu map points to %s", snap ? snap->size() : 0, path.c_str());
+    ROS_INFO_NAMED(log_name_, "saved %zu landmarks to %s and %s", file_map->map.landmarks.size(), map_path.c_str(),
+                   ply_path.c_str());
   else
     ROS_ERROR_NAMED(log_name_, "~save_map failed: %s", err.c_str());
   return true;

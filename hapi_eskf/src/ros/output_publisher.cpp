@@ -31,6 +31,11 @@ void OutputPublisher::setMapAnchor(const Eigen::Isometry3d& T_map_world) {
   T_cam_base_ = T_map_world.inverse();
 }
 
+void OutputPublisher::unanchorMap() {
+  std::lock_guard<std::mutex> lk(mu_);
+  T_map_world_ = Eigen::Isometry3d::Identity();
+}
+
 Eigen::Isometry3d OutputPublisher::mapFromWorld() const {
   std::lock_guard<std::mutex> lk(mu_);
   return T_map_world_;

@@ -1,7 +1,8 @@
 // rostest of EskfNodelet with every thread busy at once
 // (eskf_nodelet_concurrency.test): a publisher thread streams synthetic
 // landmarks (20 Hz) and gyro samples (200 Hz) while this thread calls
-// ~reset, ~save_map and ~save_trajectory in turn and the map timer runs.
+// ~reset, ~save_map, ~save_trajectory and ~load_map (a missing file) in
+// turn and the map timer runs.
 // Every call must answer, every reset must be acknowledged by the worker,
 // and the filter must run again after the last reset, without filter
 // errors. Under ThreadSanitizer (tools/sanitize.sh tsan) the same run checks
@@ -10,6 +11,7 @@
 #include "synthetic_frames.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <hapi_msgs/LoadMap.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
@@ -81,19 +83,24 @@ TEST(EskfNodeletConcurrency, ResetAndSaveWhileFramesAndImuArrive) {
   ros::ServiceClient reset = nh.serviceClient<std_srvs::Trigger>("/eskf/reset");
   ros::ServiceClient save_map = nh.serviceClient<std_srvs::Trigger>("/eskf/save_map");
   ros::ServiceClient save_traj = nh.serviceClient<std_srvs::Trigger>("/eskf/save_trajectory");
+  ros::ServiceClient load_map = nh.serviceClient<hapi_msgs::LoadMap>("/eskf/load_map");
   ASSERT_TRUE(reset.waitForExistence(ros::Duration(30.0)));
   ASSERT_TRUE(save_map.waitForExistence(ros::Duration(10.0)));
   ASSERT_TRUE(save_traj.waitForExistence(ros::Duration(10.0)));
+  ASSERT_TRUE(load_map.waitForExistence(ros::Duration(10.0)));
 
   std::atomic<bool> stop{false};
   std::thread publisher(stream, &stop);
   ASSERT_TRUE(waitFor([] { return numOdom() > 20; }, 30.0)) << "no odometry from the streamed frames";
 
-  int resets_acknowledged = 0, saves_answered = 0;
+  int resets_acknowledged = 0, saves_answered = 0, loads_refused = 0;
   for (int round = 0; round < 6; ++round) {
     std_srvs::Trigger t;
     if (save_map.call(t)) ++saves_answered;
     if (save_traj.call(t)) ++saves_answered;
+    hapi_msgs::LoadMap missing;  // a refused load: read and counted beside the worker and diagnostics
+    missing.request.path = "/nonexistent/map.hmap";
+    if (load_map.call(missing) && !missing.response.success) ++loads_refused;
     ros::WallDuration(0.15).sleep();
     ASSERT_TRUE(reset.call(t));
     if (t.response.success) ++resets_acknowledged;
@@ -103,6 +110,7 @@ TEST(EskfNodeletConcurrency, ResetAndSaveWhileFramesAndImuArrive) {
   const std::size_t n0 = numOdom();
   EXPECT_TRUE(waitFor([&] { return numOdom() > n0 + 20; }, 20.0)) << "odometry did not resume after the resets";
   EXPECT_TRUE(waitFor([] { return diagValue("imu_samples_used") > 0; }, 5.0));
+  EXPECT_EQ(loads_refused, 6);
   stop = true;
   publisher.join();
   std::printf("[eskf concurrency rostest] %d/6 resets acknowledged, %d/12 saves answered, %zu odometry messages, "

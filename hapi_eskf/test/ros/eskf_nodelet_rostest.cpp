@@ -4,7 +4,7 @@
 //     a burst faster than the worker: every frame processed or counted dropped;
 //  2. fuzz: malformed messages interleaved with good ones -> node alive, each
 //     rejection counted in /diagnostics, no output (pose unchanged) for them;
-//  3. ~save_map / ~save_trajectory write valid PLY / TUM files; ~refine (the
+//  3. ~save_map writes a map file with a valid PLY beside it, ~save_trajectory a TUM file; ~refine (the
 //     ES-EKF's recorded run, batch refined) writes a PLY and a TUM file;
 //  4. a stamp jumping backwards (bag loop) resets filter and path;
 //  5. ~reset empties the map.
@@ -342,8 +342,12 @@ TEST(EskfNodelet, SaveServicesWritePlyAndTum) {
   ASSERT_TRUE(ros::service::waitForService("/eskf/save_map", 5000));
   ASSERT_TRUE(ros::service::call("/eskf/save_map", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
+  // The map file (eskf_nodelet_map_rostest.cpp reads and loads it) and the
+  // PLY of its points beside it.
+  const std::string& map_path = srv.response.message;
+  ASSERT_EQ(map_path.substr(map_path.size() - 5), ".hmap") << map_path;
   {
-    std::ifstream f(srv.response.message);
+    std::ifstream f(map_path.substr(0, map_path.size() - 4) + "ply");
     ASSERT_TRUE(f.good()) << srv.response.message;
     std::string line;
     int vertices = -1, rows = 0;
@@ -480,6 +484,8 @@ int main(int argc, char** argv) {
   tf_buffer = &buffer;
   hapi_eskf_test::SyntheticScene sc;
   scene = &sc;
+  // The stereo calibration a saved map records.
+  const auto camera_info = hapi_eskf_test::latchStereoCameraInfo(nh, kFrame);
   t0 = ros::Time::now();
   // Give our subscriptions time to connect before anything is published.
   waitFor([&] { return o.connected(); }, 30.0);

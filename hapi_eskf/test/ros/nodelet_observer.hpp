@@ -40,6 +40,7 @@ struct NodeletObserver {
   int maps = 0;
   std::vector<ros::WallTime> map_times;
   std::map<std::string, std::string> diag;
+  std::map<std::string, diagnostic_msgs::DiagnosticStatus> statuses;  // the latest, by status name (values cleared)
   int diags = 0;
 
   explicit NodeletObserver(ros::NodeHandle& nh, const std::string& ns = "/eskf")
@@ -93,6 +94,8 @@ struct NodeletObserver {
     for (const auto& s : m->status) {
       if (s.name.find("eskf") == std::string::npos) continue;
       for (const auto& kv : s.values) diag[kv.key] = kv.value;
+      statuses[s.name] = s;
+      statuses[s.name].values.clear();
       ++diags;
     }
   }

@@ -4,6 +4,30 @@
 
 namespace hapi_eskf_test {
 
+sensor_msgs::CameraInfo stereoCameraInfo(bool right, const std::string& frame_id) {
+  sensor_msgs::CameraInfo c;
+  c.header.frame_id = frame_id;
+  c.width = 640;
+  c.height = 480;
+  c.distortion_model = "plumb_bob";
+  c.D.assign(5, 0.0);
+  c.K = {kCameraInfoFocal, 0, 320, 0, kCameraInfoFocal, 240, 0, 0, 1};
+  c.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  c.P = {kCameraInfoFocal, 0, 320, right ? -kCameraInfoFocal * kCameraInfoBaseline : 0.0,
+         0, kCameraInfoFocal, 240, 0, 0, 0, 1, 0};
+  return c;
+}
+
+std::array<ros::Publisher, 2> latchStereoCameraInfo(ros::NodeHandle& nh, const std::string& frame_id) {
+  std::array<ros::Publisher, 2> pubs;
+  for (int right = 0; right < 2; ++right) {
+    pubs[right] = nh.advertise<sensor_msgs::CameraInfo>(right ? "/eskf/right/camera_info" : "/eskf/left/camera_info",
+                                                        1, true);
+    pubs[right].publish(stereoCameraInfo(right, frame_id));
+  }
+  return pubs;
+}
+
 SyntheticScene::SyntheticScene(int n_points, unsigned seed, double sigma) : rng_(seed), sigma_(sigma) {
   std::uniform_real_distribution<double> ux(-3.0, 3.0), uy(-2.0, 2.0), uz(3.0, 7.0);
   std::uniform_int_distribution<int> byte(0, 255);

@@ -5,6 +5,9 @@
 #pragma once
 
 #include <hapi_msgs/StereoLandmarks.h>
+#include <ros/node_handle.h>
+#include <ros/publisher.h>
+#include <sensor_msgs/CameraInfo.h>
 
 #include <Eigen/Geometry>
 #include <array>
@@ -13,6 +16,15 @@
 #include <vector>
 
 namespace hapi_eskf_test {
+
+// A rectified stereo pair's CameraInfo (640 x 480, f 400 px, baseline
+// 0.1 m): what the nodelet's ~left/camera_info and ~right/camera_info carry
+// (the right P holds Tx = -f * baseline).
+sensor_msgs::CameraInfo stereoCameraInfo(bool right, const std::string& frame_id);
+constexpr double kCameraInfoFocal = 400.0, kCameraInfoBaseline = 0.1;
+// Both, latched, on /eskf/left/camera_info and /eskf/right/camera_info:
+// keep the returned publishers for as long as the nodelet may read them.
+std::array<ros::Publisher, 2> latchStereoCameraInfo(ros::NodeHandle& nh, const std::string& frame_id);
 
 class SyntheticScene {
  public:

@@ -6,6 +6,7 @@
 //   OutputPublisher    ~odom, ~pose, TF, the IMU-rate output (output_publisher.hpp)
 //   TrajectoryRecorder ~path, ~save_trajectory (trajectory_recorder.hpp)
 //   MapPublisher       map snapshots, ~map, ~save_map (map_publisher.hpp)
+//   MapSession         ~map_file, ~load_map, the stereo calibration (map_session.hpp)
 //   GraphRefiner       ~refine: batch refinement of the run (graph_refiner.hpp)
 //   ImuInput           ~use_imu: sample checks, mounting rotation, buffer (imu_input.hpp)
 //   NodeletStatistics  counters, stage timings, /diagnostics (statistics.hpp)
@@ -45,6 +46,7 @@
 #include "hapi_eskf/ros/graph_refiner.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"
 #include "hapi_eskf/ros/map_publisher.hpp"
+#include "hapi_eskf/ros/map_session.hpp"
 #include "hapi_eskf/ros/output_publisher.hpp"
 #include "hapi_eskf/ros/params.hpp"
 #include "hapi_eskf/ros/self_check.hpp"
@@ -53,6 +55,7 @@
 #include "hapi_eskf/ros/validation.hpp"
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <hapi_msgs/LoadMap.h>
 #include <hapi_msgs/StereoLandmarks.h>
 #include <hapi_nodelet_kit/mailbox.hpp>
 #include <hapi_nodelet_kit/stamp_guard.hpp>
@@ -99,6 +102,9 @@ class EskfNodelet : public nodelet::Nodelet {
   void landmarksCallback(const hapi_msgs::StereoLandmarks::ConstPtr& msg);
   void imuCallback(const sensor_msgs::Imu::ConstPtr& msg);
   bool resetService(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  bool loadMapService(hapi_msgs::LoadMap::Request& req, hapi_msgs::LoadMap::Response& res);
+  // Asks the worker for a filter reset; true once it acknowledged (within 2 s).
+  bool requestReset();
   void reject(ros_glue::Reject r, const std::string& detail);
 
   // --- worker thread only ---
@@ -115,6 +121,7 @@ class EskfNodelet : public nodelet::Nodelet {
   // diagnostics status turns ERROR with `why`.
   void stop(const std::string& why);
   void takeSnapshot();
+  ros_glue::FileMap fileMap();  // the pool as a map file's content (~save_map)
 
   ros_glue::NodeletParams params_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
@@ -126,6 +133,7 @@ class EskfNodelet : public nodelet::Nodelet {
   std::unique_ptr<ros_glue::OutputPublisher> output_;
   std::unique_ptr<ros_glue::TrajectoryRecorder> trajectory_;
   std::unique_ptr<ros_glue::MapPublisher> map_;
+  std::unique_ptr<ros_glue::MapSession> map_session_;
   std::unique_ptr<ros_glue::GraphRefiner> refiner_;  // ~refine
 
   // Landmarks callback state (and ~reset's stamp guard clear): the guard owns
@@ -154,7 +162,8 @@ class EskfNodelet : public nodelet::Nodelet {
   // startup_ reports a start-up failure (then nothing else is started).
   hapi_nodelet_kit::StartupFailure startup_{kStatusName, kHardwareId};
   hapi_nodelet_kit::WatchedSubscriber landmarks_in_, imu_in_;
-  ros::ServiceServer reset_srv_, save_map_srv_, save_traj_srv_, refine_srv_;
+  ros::Subscriber left_info_in_, right_info_in_;
+  ros::ServiceServer reset_srv_, save_map_srv_, load_map_srv_, save_traj_srv_, refine_srv_;
   ros::WallTimer map_timer_, diag_timer_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
 };

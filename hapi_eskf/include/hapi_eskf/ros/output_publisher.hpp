@@ -40,6 +40,10 @@ class OutputPublisher {
   // T_map_world = T_base_cam of the first frame with ~base_frame (so
   // T_cam_base is its inverse), else identity.
   void setMapAnchor(const Eigen::Isometry3d& T_map_world);
+  // A loaded map (map_session.hpp) is the filter's world and already in the
+  // published frame: T_map_world = identity; the base mounting
+  // (T_cam_base from setMapAnchor) stays.
+  void unanchorMap();
   Eigen::Isometry3d mapFromWorld() const;
   // After a processed frame: publishes its pose (unless the IMU-rate output
   // is already past it), re-bases the IMU-rate copy and catches up with the

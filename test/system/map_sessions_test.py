@@ -1,0 +1,240 @@
+#!/usr/bin/python3
+"""Two sessions of the whole system (launch/replay.launch) on the same
+simulated scene (docs/DESIGN.md "Map file"):
+
+  map_sessions_test.py SESSION1_BAG SESSION2_BAG [OTHER_BAG]
+
+Session 1 replays SESSION1_BAG and saves its map through /eskf/save_map.
+Session 2 starts with ~map_file set to that map on SESSION2_BAG, whose
+camera starts elsewhere in the scene (another trajectory), with no pose
+hint. It passes when
+  * /diagnostics of session 2 reports "relocalised in the loaded map at T",
+  * session 2 publishes no odometry before T (nothing in the map frame
+    before the camera is placed in it),
+  * after T, its odometry lies within MAX_POSITION_ERROR of the truth
+    expressed in session 1's map frame (the two bags' truths share the
+    scene frame; session 1's map frame is its first camera pose, found from
+    its first odometry), and covers most of the rest of the bag;
+  * with OTHER_BAG (the same scene with another texture), a third session
+    with session 1's map never relocalises and publishes no odometry.
+Both sessions run the constant-velocity model (the inertial model does not
+load maps). Exit 0 pass, 1 fail.
+"""
+import bisect
+import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+import numpy as np
+import rosbag
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Clock
+from scipy.spatial.transform import Rotation
+from std_srvs.srv import Trigger
+
+# Loose against the measured figure (docs/DESIGN.md "Map file": session 1's
+# drift over its 6 s plus session 2's error), tight against a filter that
+# tracks from its own start instead (the two starts are ~11 cm apart).
+MAX_POSITION_ERROR = 0.02  # [m], every pose after relocalisation
+MIN_COVERAGE = 0.6         # fraction of session 2's frames after T with odometry
+MIN_OTHER_HELD = 20        # of the other scene's 40 frames: it was seen, and held back
+RELOCALISED = re.compile(r"relocalised in the loaded map at ([0-9.]+)")
+
+
+def pose_matrix(p, q):
+    T = np.eye(4)
+    T[:3, :3] = Rotation.from_quat([q.x, q.y, q.z, q.w]).as_matrix()
+    T[:3, 3] = [p.x, p.y, p.z]
+    return T
+
+
+def read_truth(bag_path):
+    """Stamps [s] and T_world_cam of /ground_truth/odometry."""
+    stamps, poses = [], []
+    with rosbag.Bag(bag_path) as bag:
+        for _, m, _ in bag.read_messages(["/ground_truth/odometry"]):
+            stamps.append(m.header.stamp.to_sec())
+            poses.append(pose_matrix(m.pose.pose.position, m.pose.pose.orientation))
+    return stamps, poses
+
+
+def truth_at(truth, t, tolerance=0.003):
+    stamps, poses = truth
+    i = bisect.bisect_left(stamps, t)
+    best = min((j for j in (i - 1, i) if 0 <= j < len(stamps)), key=lambda j: abs(stamps[j] - t))
+    if abs(stamps[best] - t) > tolerance:
+        raise RuntimeError("no truth within %.3f s of %.3f" % (tolerance, t))
+    return poses[best]
+
+
+def frame_count(bag_path):
+    with rosbag.Bag(bag_path) as bag:
+        return bag.get_message_count("/stereo/left/image_raw")
+
+
+class Watch:
+    """Odometry, the relocalisation state on /diagnostics and /clock."""
+
+    def __init__(self):
+        self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
+        self.held = 0  # the filter's frames_relocalising
+        rospy.Subscriber("/eskf/odom", Odometry, self.on_odom, queue_size=1000)
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=100)
+        rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=10)
+
+    def clear(self):
+        self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
+        self.held = 0
+
+    def on_odom(self, m):
+        self.odom.append((m.header.stamp.to_sec(), pose_matrix(m.pose.pose.position, m.pose.pose.orientation)))
+
+    def on_diag(self, m):
+        for s in m.status:
+            for kv in s.values:
+                if kv.key == "relocalisation":
+                    self.states.append(kv.value)
+                elif kv.key == "frames_relocalising":
+                    self.held = int(kv.value)
+
+    def on_clock(self, m):
+        if self.clock != m.clock:
+            self.clock, self.clock_wall = m.clock, time.time()
+
+    def bag_over(self, quiet_s=3.0):
+        return self.clock_wall is not None and time.time() - self.clock_wall > quiet_s
+
+
+def run_session(watch, bag, map_file, timeout_s=120.0):
+    """Replays `bag`; returns the roslaunch process once the bag is over."""
+    watch.clear()
+    args = ["roslaunch", "hapi_slam", "replay.launch", "bag:=" + bag, "dense_depth:=false", "surface:=false",
+            "surface_motion:=false", "ground_truth:=false", "output:=log", "motion_model:=constant_velocity",
+            "delay:=3.0", "map_file:=" + map_file]
+    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+    end = time.time() + timeout_s
+    while time.time() < end and not watch.bag_over():
+        if proc.poll() is not None:
+            raise RuntimeError("roslaunch ended early (%d)" % proc.returncode)
+        time.sleep(0.2)
+    if not watch.bag_over():
+        raise RuntimeError("the bag did not finish within %.0f s" % timeout_s)
+    return proc
+
+
+def stop(proc):
+    proc.send_signal(signal.SIGINT)
+    try:
+        proc.wait(30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
+def check_session2(watch, truth1, truth2, T_map_world, frames):
+    failures = []
+    relocalised = [float(m.group(1)) for m in map(RELOCALISED.match, watch.states) if m]
+    print("session 2 relocalisation states:", sorted(set(watch.states)))
+    if not relocalised:
+        return ["session 2 never reported 'relocalised in the loaded map'"]
+    t_reloc = relocalised[0]
+    t_first_truth = truth2[0][0]
+    print("relocalised at %.3f, %.2f s into the bag" % (t_reloc, t_reloc - t_first_truth))
+    early = [t for t, _ in watch.odom if t < t_reloc - 1e-3]
+    if early:
+        failures.append("%d odometry messages before relocalisation (first at %.3f)" % (len(early), early[0]))
+    errors = []
+    for t, T_map_cam in watch.odom:
+        if t < t_reloc - 1e-3:
+            continue
+        T_truth = T_map_world @ truth_at(truth2, t)
+        errors.append(np.linalg.norm(T_map_cam[:3, 3] - T_truth[:3, 3]))
+    if not errors:
+        return failures + ["no odometry after relocalisation"]
+    errors = np.array(errors)
+    frames_after = frames * (truth2[0][-1] - t_reloc) / (truth2[0][-1] - t_first_truth)
+    print("session 2 after relocalisation: %d poses (of ~%.0f frames), position error median %.1f mm, max %.1f mm"
+          % (len(errors), frames_after, 1e3 * np.median(errors), 1e3 * errors.max()))
+    if errors.max() > MAX_POSITION_ERROR:
+        failures.append("position error %.1f mm > %.1f mm" % (1e3 * errors.max(), 1e3 * MAX_POSITION_ERROR))
+    if len(errors) < MIN_COVERAGE * frames_after:
+        failures.append("only %d poses for ~%.0f frames after relocalisation" % (len(errors), frames_after))
+    return failures
+
+
+def check_other_scene(watch):
+    """Session 3: the map of another texture must never place the camera."""
+    print("other scene: relocalisation states %s, %d frames held back" % (sorted(set(watch.states)), watch.held))
+    failures = []
+    if watch.held < MIN_OTHER_HELD:
+        failures.append("only %d frames of the other scene reached the filter" % watch.held)
+    if not watch.states:
+        failures.append("the other scene's session reported no relocalisation state")
+    if any(RELOCALISED.match(x) for x in watch.states):
+        failures.append("relocalised in the map of another texture")
+    if watch.odom:
+        failures.append("%d odometry messages in the map of another texture" % len(watch.odom))
+    return failures
+
+
+def main():
+    bag1, bag2 = sys.argv[1:3]
+    other_bag = sys.argv[3] if len(sys.argv) > 3 else ""
+    truth1, truth2 = read_truth(bag1), read_truth(bag2)
+    start_offset = np.linalg.inv(truth1[1][0]) @ truth2[1][0]
+    print("session 2 starts %.1f mm and %.1f deg from session 1's start"
+          % (1e3 * np.linalg.norm(start_offset[:3, 3]),
+             np.degrees(np.linalg.norm(Rotation.from_matrix(start_offset[:3, :3]).as_rotvec()))))
+    with socket.socket() as s:
+        s.bind(("localhost", 0))
+        port = s.getsockname()[1]
+    os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
+    core = subprocess.Popen(["roscore", "-p", str(port)], stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+    map_path = ""
+    try:
+        time.sleep(3.0)
+        rospy.init_node("map_sessions_test", disable_signals=True)
+        watch = Watch()
+        proc = run_session(watch, bag1, "")
+        try:
+            rospy.wait_for_service("/eskf/save_map", 10.0)
+            res = rospy.ServiceProxy("/eskf/save_map", Trigger)()
+        finally:
+            stop(proc)
+        if not res.success:
+            print("FAIL: session 1's ~save_map: %s" % res.message)
+            return 1
+        map_path = res.message
+        print("session 1: %d poses, map saved to %s" % (len(watch.odom), map_path))
+        if not watch.odom:
+            print("FAIL: session 1 published no odometry")
+            return 1
+        # Session 1's map frame = its first camera pose: T_map_world from its first odometry.
+        t1, T_map_cam1 = watch.odom[0]
+        T_map_world = T_map_cam1 @ np.linalg.inv(truth_at(truth1, t1))
+        stop(run_session(watch, bag2, map_path))
+        failures = check_session2(watch, truth1, truth2, T_map_world, frame_count(bag2))
+        if other_bag:
+            stop(run_session(watch, other_bag, map_path))
+            failures += check_other_scene(watch)
+    finally:
+        if map_path:
+            for p in (map_path, map_path[:-4] + "ply"):
+                if os.path.exists(p):
+                    os.remove(p)
+        core.send_signal(signal.SIGINT)
+        core.wait(30)
+    for f in failures:
+        print("FAIL:", f)
+    print("PASS" if not failures else "FAILED")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
