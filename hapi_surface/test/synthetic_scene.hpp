@@ -98,9 +98,11 @@ class Scene {
 };
 
 // The default settings with a volume of sx x sy x sz metres (the tests'
-// volumes are small, to run fast).
+// volumes are small, to run fast). The tests' poses are exact from the
+// first frame on: no waiting for a settled filter.
 inline SurfaceSettings volumeOf(double sx, double sy, double sz) {
   SurfaceSettings s;
+  s.settle_time = 0;
   s.volume_size_x = sx;
   s.volume_size_y = sy;
   s.volume_size_z = sz;

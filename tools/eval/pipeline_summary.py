@@ -158,6 +158,9 @@ def print_surface(sf):
     kf = f"{sf['keyframes_fused']} keyframes fused" if "keyframes_fused" in sf else "keyframes unknown"
     if "depth_keyframes_published" in sf:
         kf += f" of {sf['depth_keyframes_published']} depth keyframes"
+    if sf.get("keyframes_unsettled"):
+        kf += (f" ({sf['keyframes_unsettled']} waited for the filter to settle: {sf.get('early_keyframes_fused', 0)}"
+               f" registered and fused, {sf.get('early_keyframes_discarded', 0)} discarded)")
     if "error" in sf:
         print(f"surface               : not saved ({sf['error']}; {kf})")
         return

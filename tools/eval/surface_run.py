@@ -124,9 +124,17 @@ class SurfaceCollector:
         if "published" in depth:  # the depth keyframes that crossed the robot-server link
             rep["depth_keyframes_published"] = int(float(depth["published"]))
         for key, name in (("keyframes", "keyframes_fused"), ("keyframes stored", "keyframes_stored"),
-                          ("imaging projected", "imaging_frames_projected"), ("integration", "integration")):
+                          ("imaging projected", "imaging_frames_projected"), ("integration", "integration"),
+                          ("keyframes before the filter settled", "keyframes_unsettled"),
+                          ("early keyframes registered and fused", "early_keyframes_fused"),
+                          ("early keyframes discarded", "early_keyframes_discarded"),
+                          ("keyframes waiting for a settled filter", "keyframes_waiting")):
             if key in status:
                 rep[name] = status[key] if name == "integration" else int(float(status[key]))
+        # The keyframes that waited for a settled filter and were fused then
+        # count as fused too.
+        if "keyframes_fused" in rep:
+            rep["keyframes_fused"] += rep.get("early_keyframes_fused", 0)
         if rospy.get_param("~surface_mesh_topic", ""):
             rep["mesh_messages"], rep["mesh_marker_triangles"] = self.mesh_messages, self.mesh_triangles
         if "error" in rep:

@@ -15,6 +15,8 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <visualization_msgs/Marker.h>
 
+#include <cmath>
+
 namespace hapi_surface {
 
 using ros_glue::SurfaceStatistics;
@@ -26,6 +28,7 @@ SurfaceNodelet::~SurfaceNodelet() {
   imaging_info_sub_.shutdown();
   confidence_sub_.shutdown();
   path_sub_.shutdown();
+  odom_sub_.shutdown();
   depth_sub_.unsubscribe();
   imaging_sub_.unsubscribe();
   save_srv_.shutdown();
@@ -82,6 +85,7 @@ void SurfaceNodelet::onInit() {
   if (params_.use_confidence)
     confidence_sub_ = nh.subscribe(kConfidenceTopic, params_.queue_size, &SurfaceNodelet::confidenceCallback, this);
   path_sub_ = nh.subscribe("path", 1, &SurfaceNodelet::pathCallback, this);
+  odom_sub_ = nh.subscribe("odom", 50, &SurfaceNodelet::odomCallback, this);
   subscribeWithTf(kDepthTopic, &depth_sub_, &depth_filter_, &SurfaceNodelet::depthCallback, &stats_.depth_no_tf);
   subscribeWithTf("imaging/image", &imaging_sub_, &imaging_filter_, &SurfaceNodelet::imagingCallback,
                   &stats_.imaging_no_tf);
@@ -181,8 +185,35 @@ void SurfaceNodelet::depthCallback(const sensor_msgs::ImageConstPtr& msg) {
                            depth_camera_ ? "" : ", no depth_camera_info yet");
     return;
   }
-  ++(use == FrameUse::kKeyframe ? stats_.keyframes : stats_.depth_skipped);
+  ++(use == FrameUse::kKeyframe ? stats_.keyframes : use == FrameUse::kWaiting ? stats_.keyframes_unsettled
+                                                                               : stats_.depth_skipped);
+  countKeyframes();
+}
+
+void SurfaceNodelet::countKeyframes() {
   stats_.keyframes_stored = mapper_->keyframes().size();
+  const WaitingCounts w = mapper_->waitingCounts();
+  stats_.keyframes_waiting = w.waiting;
+  stats_.early_keyframes_fused = w.fused;
+  stats_.early_keyframes_discarded = w.discarded;
+  stats_.keyframes_registered = w.registered;
+  stats_.keyframes_unregistered = w.unregistered;
+}
+
+void SurfaceNodelet::odomCallback(const nav_msgs::OdometryConstPtr& msg) {
+  const auto& C = msg->pose.covariance;  // row-major 6 x 6: x y z, then rotation about x y z
+  PoseUncertainty u;
+  u.stamp = msg->header.stamp.toSec();
+  u.position_std = std::sqrt(C[0] + C[7] + C[14]);
+  u.rotation_std = std::sqrt(C[21] + C[28] + C[35]);
+  if (!std::isfinite(u.position_std) || !std::isfinite(u.rotation_std)) {
+    ++stats_.odom_rejected;
+    NODELET_ERROR_THROTTLE(5.0, "odometry at %.6f ignored: its pose covariance has a negative or non-finite variance",
+                           u.stamp);
+    return;
+  }
+  std::lock_guard<std::mutex> lk(mu_);
+  mapper_->addPoseUncertainty(u);
 }
 
 void SurfaceNodelet::imagingCallback(const sensor_msgs::ImageConstPtr& msg) {
@@ -239,6 +270,7 @@ void SurfaceNodelet::pathCallback(const nav_msgs::PathConstPtr& msg) {
     ++stats_.rebuilds;
     NODELET_INFO("surface rebuilt from %zu keyframes after a pose correction", mapper_->keyframes().size());
   }
+  countKeyframes();
   last_path_ = std::move(path);
 }
 
