@@ -7,6 +7,7 @@
 #include "hapi_surface/depth_image_contract.hpp"
 #include "hapi_surface/mesh_extraction.hpp"
 #include "hapi_surface/ply_io.hpp"
+#include "hapi_surface/textured_obj.hpp"
 #ifdef HAPI_SURFACE_WITH_CUDA
 #include "hapi_surface/cuda/tsdf_cuda.hpp"
 #endif
@@ -306,7 +307,10 @@ bool SurfaceNodelet::saveService(hapi_msgs::SaveSurface::Request& req, hapi_msgs
   }
   stats_.vertices = mesh.vertices.size();
   stats_.faces = mesh.faces.size();
-  const SurfaceStatus st = mesh.empty() ? SurfaceStatus::kNoVolume : writePly(req.path, mesh, colours(mesh));
+  // A path ending in .obj: OBJ + MTL + PNG texture of the values (textured_obj.hpp); else PLY.
+  const SurfaceStatus st = mesh.empty()             ? SurfaceStatus::kNoVolume
+                           : isObjPath(req.path) ? writeTexturedObj(req.path, mesh, colours(mesh))
+                                                 : writePly(req.path, mesh, colours(mesh));
   res.success = st == SurfaceStatus::kOk;
   res.vertices = static_cast<std::uint32_t>(mesh.vertices.size());
   res.faces = static_cast<std::uint32_t>(mesh.faces.size());

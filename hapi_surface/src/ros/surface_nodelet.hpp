@@ -15,7 +15,8 @@
 //   TF                ~world_frame -> each image's frame at its stamp
 // Out: ~mesh (visualization_msgs/Marker TRIANGLE_LIST, per-vertex colours of
 //   the projected value, every ~mesh_period), service ~save_surface
-//   (hapi_msgs/SaveSurface: PLY), /diagnostics ("surface").
+//   (hapi_msgs/SaveSurface: PLY, or OBJ + MTL + PNG texture for a path
+//   ending in .obj), /diagnostics ("surface").
 // One mutex guards the mapper; the callbacks may run on several threads.
 #pragma once
 
