@@ -1,5 +1,5 @@
-// Registration of a depth frame to the fused surface (docs/DESIGN.md
-// "Surface", eq. S6): the camera pose that brings the frame's depth points
+// Registration of a depth frame to the fused surface (docs/SURFACE.md
+// "Settle rule", eq. R1): the camera pose that brings the frame's depth points
 // onto the zero level of the TSDF, by Gauss-Newton on their interpolated
 // signed distances. Only points inside the truncation band of voxels seen
 // often enough count, so the pose must start within about the truncation

@@ -1,5 +1,5 @@
 // Whether the filter's pose at a stamp is settled enough to fuse a keyframe
-// taken then (docs/DESIGN.md "Surface", settle rule): the filter has given
+// taken then (docs/SURFACE.md "Settle rule"): the filter has given
 // poses for at least settle_time, and its pose uncertainty (odometry) at
 // the stamp is within settle_position_std / settle_rotation_std.
 #pragma once

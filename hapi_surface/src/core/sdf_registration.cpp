@@ -71,7 +71,7 @@ double median(std::vector<double> v) {
 }
 
 // One Gauss-Newton step of the pose (a rotation about `centre` scaled by
-// `length`, then a translation; eq. S6); the points' |distances| in *abs.
+// `length`, then a translation; docs/SURFACE.md eq. R1); the points' |distances| in *abs.
 // False without enough points.
 bool step(const TsdfVolume& volume, const std::vector<Eigen::Vector3d>& pts_c, const Eigen::Isometry3d& T,
           const Eigen::Vector3d& centre, double length, Eigen::Matrix<double, 6, 1>* delta, std::vector<double>* abs) {

@@ -74,7 +74,10 @@ void SurfaceNodelet::onInit() {
           const SurfaceStatus st = ros_glue::toCamera(*msg, &c);
           if (st != SurfaceStatus::kOk) {
             stats_.reject(&stats_.camera_info_rejected, st);
-            NODELET_ERROR_THROTTLE(2.0, "CameraInfo of '%s' rejected: %s", msg->header.frame_id.c_str(), toString(st));
+            NODELET_ERROR_THROTTLE(2.0,
+                                   "CameraInfo of '%s' rejected: %s (needs a positive K, distortion model plumb_bob "
+                                   "or none; depth images rectified)",
+                                   msg->header.frame_id.c_str(), toString(st));
             return;
           }
           std::lock_guard<std::mutex> lk(mu_);
