@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <utility>
 
 namespace hapi_surface {
@@ -148,37 +147,6 @@ TEST(Projection, DepthRenderOfThePlaneIsItsDepth) {
   EXPECT_GT(hit, 50000u);  // the 7 x 7 cm volume covers ~250 x 250 pixels
 }
 
-// The undistorted normalised point of a distorted one (fixed-point
-// iteration of the plumb_bob model, as OpenCV's undistortPoints).
-Eigen::Vector2d undistort(const PinholeCamera& c, const Eigen::Vector2d& d) {
-  Eigen::Vector2d x = d;
-  for (int k = 0; k < 50; ++k) {
-    const double r2 = x.squaredNorm();
-    const double radial = 1 + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
-    const Eigen::Vector2d tangential(2 * c.p1 * x.x() * x.y() + c.p2 * (r2 + 2 * x.x() * x.x()),
-                                     c.p1 * (r2 + 2 * x.y() * x.y()) + 2 * c.p2 * x.x() * x.y());
-    x = (d - tangential) / radial;
-  }
-  return x;
-}
-
-// value(p) at the surface point each pixel of a distorted camera sees.
-FloatImage distortedPattern(const Scene& scene, const PinholeCamera& cam, const Eigen::Isometry3d& T_wc) {
-  FloatImage im;
-  im.width = cam.width;
-  im.height = cam.height;
-  im.data.resize(static_cast<std::size_t>(cam.width) * cam.height);
-  for (int v = 0; v < cam.height; ++v)
-    for (int u = 0; u < cam.width; ++u) {
-      const Eigen::Vector2d x = undistort(cam, Eigen::Vector2d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy));
-      const Eigen::Vector3d dir = T_wc.linear() * Eigen::Vector3d(x.x(), x.y(), 1.0);
-      const double t = scene.cast(T_wc.translation(), dir);
-      im.at(u, v) = std::isfinite(t) ? static_cast<float>(pattern(T_wc.translation() + t * dir))
-                                     : std::numeric_limits<float>::quiet_NaN();
-    }
-  return im;
-}
-
 // RMS of (value - pattern) over the plane's vertices that have a value, and their count.
 std::pair<double, std::size_t> patternError(const Mesh& mesh) {
   double sq = 0;
@@ -204,7 +172,7 @@ TEST(Projection, LensDistortionPutsThePatternInPlace) {
   // lies towards the image's corner, where the distortion is large
   // (~2 mm on the plane there).
   const Eigen::Isometry3d T_img = lookAt({0.01, 0, 0}, kCentre + Eigen::Vector3d(-0.07, -0.05, 0));
-  const FloatImage image = distortedPattern(scene, cam, T_img);
+  const FloatImage image = scene.pattern(cam, T_img, pattern);
   PinholeCamera pinhole = cam;
   pinhole.k1 = pinhole.k2 = pinhole.p1 = pinhole.p2 = 0;
   SurfaceMapper with = mapScene(scene), without = mapScene(scene);
