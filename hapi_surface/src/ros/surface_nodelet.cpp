@@ -116,6 +116,8 @@ void SurfaceNodelet::resetMapper() {
 #endif
   last_path_.clear();
   last_projection_ = ros::Time();
+  std::lock_guard<std::mutex> lk(odom_mu_);
+  odom_.clear();
 }
 
 void SurfaceNodelet::subscribeWithTf(const std::string& topic, message_filters::Subscriber<sensor_msgs::Image>* sub,
@@ -177,6 +179,7 @@ void SurfaceNodelet::depthCallback(const sensor_msgs::ImageConstPtr& msg) {
   }
   if (st == SurfaceStatus::kOk && !depth_camera_) st = SurfaceStatus::kBadCamera;
   FrameUse use = FrameUse::kRejected;
+  takeOdometry();
   if (st == SurfaceStatus::kOk) {
     frame.camera = *depth_camera_;
     if (params_.use_confidence) frame.weight = confidenceAt(msg->header.stamp);
@@ -216,8 +219,20 @@ void SurfaceNodelet::odomCallback(const nav_msgs::OdometryConstPtr& msg) {
                            u.stamp);
     return;
   }
-  std::lock_guard<std::mutex> lk(mu_);
-  mapper_->addPoseUncertainty(u);
+  // Not under mu_: odometry comes at the IMU rate and must not wait for an
+  // integration (it would hold the manager's threads); the depth callback
+  // hands the buffered uncertainties to the mapper.
+  std::lock_guard<std::mutex> lk(odom_mu_);
+  odom_.push_back(u);
+}
+
+void SurfaceNodelet::takeOdometry() {
+  std::vector<PoseUncertainty> batch;
+  {
+    std::lock_guard<std::mutex> lk(odom_mu_);
+    batch.swap(odom_);
+  }
+  for (const PoseUncertainty& u : batch) mapper_->addPoseUncertainty(u);
 }
 
 void SurfaceNodelet::imagingCallback(const sensor_msgs::ImageConstPtr& msg) {

@@ -46,6 +46,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <vector>
 
 namespace hapi_surface {
 
@@ -66,6 +67,8 @@ class SurfaceNodelet : public nodelet::Nodelet {
   void odomCallback(const nav_msgs::OdometryConstPtr& msg);
   // The mapper's keyframe counters into stats_ (under mu_).
   void countKeyframes();
+  // The odometry's uncertainties received since the last call, into the mapper (under mu_).
+  void takeOdometry();
   void publishMesh();
   bool saveService(hapi_msgs::SaveSurface::Request& req, hapi_msgs::SaveSurface::Response& res);
   // ~world_frame -> frame at stamp (TF has it: the message filters waited).
@@ -96,6 +99,8 @@ class SurfaceNodelet : public nodelet::Nodelet {
   std::optional<PinholeCamera> depth_camera_, imaging_camera_;
   std::deque<sensor_msgs::ImageConstPtr> confidence_;
   std::map<std::uint64_t, Eigen::Isometry3d> last_path_;  // stamp (ns) -> pose
+  std::mutex odom_mu_;                 // guards odom_ only
+  std::vector<PoseUncertainty> odom_;  // received, not yet in the mapper
   ros::Time last_projection_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
