@@ -1,7 +1,7 @@
 // Analytic scenes for the surface tests and the benchmark: planes, bounded
 // plates and spheres, ray cast exactly into depth images (z along the
 // optical axis, NaN where nothing is hit) and into images of a value
-// pattern painted on the surfaces.
+// pattern painted on the surfaces (through the camera's lens distortion).
 #pragma once
 
 #include "hapi_surface/float_image.hpp"
@@ -17,6 +17,21 @@
 
 namespace hapi_surface {
 namespace test {
+
+// The undistorted normalised point of a distorted one, for a camera with
+// lens distortion (fixed-point iteration of the plumb_bob model, as
+// OpenCV's undistortPoints); the point itself without distortion.
+inline Eigen::Vector2d undistort(const PinholeCamera& c, const Eigen::Vector2d& d) {
+  Eigen::Vector2d x = d;
+  for (int k = 0; c.hasDistortion() && k < 50; ++k) {
+    const double r2 = x.squaredNorm();
+    const double radial = 1 + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
+    const Eigen::Vector2d tangential(2 * c.p1 * x.x() * x.y() + c.p2 * (r2 + 2 * x.x() * x.x()),
+                                     c.p1 * (r2 + 2 * x.y() * x.y()) + 2 * c.p2 * x.x() * x.y());
+    x = (d - tangential) / radial;
+  }
+  return x;
+}
 
 class Scene {
  public:
@@ -73,7 +88,8 @@ class Scene {
     for (int v = 0; v < cam.height; ++v)
       for (int u = 0; u < cam.width; ++u) {
         // A ray whose z component is 1 in the camera: t is the depth.
-        const Eigen::Vector3d dc((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
+        const Eigen::Vector2d x = undistort(cam, Eigen::Vector2d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy));
+        const Eigen::Vector3d dc(x.x(), x.y(), 1.0);
         const double t = cast(T_wc.translation(), T_wc.linear() * dc);
         im.at(u, v) = std::isfinite(t) ? static_cast<float>(out(T_wc.translation() + t * (T_wc.linear() * dc), t))
                                        : std::numeric_limits<float>::quiet_NaN();
@@ -98,9 +114,11 @@ class Scene {
 };
 
 // The default settings with a volume of sx x sy x sz metres (the tests'
-// volumes are small, to run fast).
+// volumes are small, to run fast). The tests' poses are exact from the
+// first frame on: no waiting for a settled filter.
 inline SurfaceSettings volumeOf(double sx, double sy, double sz) {
   SurfaceSettings s;
+  s.settle_time = 0;
   s.volume_size_x = sx;
   s.volume_size_y = sy;
   s.volume_size_z = sz;

@@ -121,6 +121,13 @@ TEST_F(BadInput, BadIntrinsics) {
   PinholeCamera c = good_.camera;
   c.fy = 0;
   EXPECT_EQ(mapper_->addImagingFrame(image_, c, Eigen::Isometry3d::Identity()).status, SurfaceStatus::kBadCamera);
+  c = good_.camera;
+  c.k2 = kNaN;
+  EXPECT_EQ(mapper_->addImagingFrame(image_, c, Eigen::Isometry3d::Identity()).status, SurfaceStatus::kBadCamera);
+  // Depth must be rectified: a depth camera with distortion is refused.
+  f = good_;
+  f.camera.k1 = -0.05;
+  EXPECT_EQ(addDepth(f, Eigen::Isometry3d::Identity()), SurfaceStatus::kBadCamera);
   expectUnchanged();
 }
 

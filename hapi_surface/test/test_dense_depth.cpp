@@ -125,6 +125,37 @@ TEST(DenseDepth, SlantedPlaneToSubMillimetre) {
     }
 }
 
+TEST(DenseDepth, DisparityStepStaysOnItsRow) {
+  // Rows above 120 at 0.22 m, from 120 on at 0.28 m: the depth image must
+  // change between rows 119 and 120 (the matcher's rows are the image's).
+  const cv::Size size(320, 240);
+  const RectifiedGeometry g = geometry(size);
+  const int step = 120;
+  cv::Mat z(size, CV_32F), d(size, CV_32F);
+  for (int v = 0; v < size.height; ++v)
+    for (int u = 0; u < size.width; ++u) {
+      z.at<float>(v, u) = v < step ? 0.22f : 0.28f;
+      d.at<float>(v, u) = static_cast<float>(g.fx * g.baseline / z.at<float>(v, u));
+    }
+  for (int seed : {4, 5, 6}) {
+    const cv::Mat left = speckle(size, seed);
+    DenseDepth matcher{DenseDepthSettings()};
+    DepthImage out;
+    ASSERT_EQ(matcher.compute(left, shiftedRight(left, d), g, &out), "");
+    // Per column beyond the unseen left border, the first row nearer the far depth.
+    std::vector<int> first_far;
+    for (int u = 100; u < size.width; ++u)
+      for (int v = step - 10; v < step + 10; ++v)
+        if (std::isfinite(out.depth.at<float>(v, u)) && out.depth.at<float>(v, u) > 0.25f) {
+          first_far.push_back(v);
+          break;
+        }
+    ASSERT_GT(first_far.size(), 150u);
+    std::nth_element(first_far.begin(), first_far.begin() + first_far.size() / 2, first_far.end());
+    EXPECT_EQ(first_far[first_far.size() / 2], step) << "seed " << seed;
+  }
+}
+
 TEST(DenseDepth, FlatRegionsAndOutOfRangeAreInvalid) {
   const cv::Size size(320, 240);
   const RectifiedGeometry g = geometry(size);

@@ -1,6 +1,8 @@
 // Projection of imaging frames onto the mesh: a known pattern painted on a
 // plane comes back at the vertices; vertices hidden from the imaging camera
-// by a ball in front get no value; frames average with their weights.
+// by a ball in front get no value; frames average with their weights; a
+// camera with lens distortion puts the pattern in place only when the
+// projection applies the distortion.
 #include "hapi_surface/mesh_depth_render.hpp"
 #include "hapi_surface/surface_mapper.hpp"
 
@@ -10,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace hapi_surface {
 namespace {
@@ -142,6 +145,47 @@ TEST(Projection, DepthRenderOfThePlaneIsItsDepth) {
       ASSERT_NEAR(d, 0.25, 2e-4);
     }
   EXPECT_GT(hit, 50000u);  // the 7 x 7 cm volume covers ~250 x 250 pixels
+}
+
+// RMS of (value - pattern) over the plane's vertices that have a value, and their count.
+std::pair<double, std::size_t> patternError(const Mesh& mesh) {
+  double sq = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    if (!std::isfinite(mesh.values[i])) continue;
+    const Eigen::Vector3d p = mesh.vertices[i].cast<double>();
+    sq += std::pow(mesh.values[i] - pattern(p), 2);
+    ++n;
+  }
+  return {n ? std::sqrt(sq / n) : 0.0, n};
+}
+
+TEST(Projection, LensDistortionPutsThePatternInPlace) {
+  Scene scene;
+  scene.addPlane(Eigen::Vector3d(0, 0, 1), 0.25);
+  PinholeCamera cam = testCamera();
+  cam.k1 = -0.2;
+  cam.k2 = 0.05;
+  cam.p1 = 0.001;
+  cam.p2 = -0.0005;
+  // The imaging camera looks 7 cm and 5 cm beside the patch, so the patch
+  // lies towards the image's corner, where the distortion is large
+  // (~2 mm on the plane there).
+  const Eigen::Isometry3d T_img = lookAt({0.01, 0, 0}, kCentre + Eigen::Vector3d(-0.07, -0.05, 0));
+  const FloatImage image = scene.pattern(cam, T_img, pattern);
+  PinholeCamera pinhole = cam;
+  pinhole.k1 = pinhole.k2 = pinhole.p1 = pinhole.p2 = 0;
+  SurfaceMapper with = mapScene(scene), without = mapScene(scene);
+  ASSERT_EQ(with.addImagingFrame(image, cam, T_img).status, SurfaceStatus::kOk);
+  ASSERT_EQ(without.addImagingFrame(image, pinhole, T_img).status, SurfaceStatus::kOk);
+  const auto [rms_with, n_with] = patternError(with.mesh());
+  const auto [rms_without, n_without] = patternError(without.mesh());
+  std::printf("distorted camera: value RMS %.4f with the distortion (%zu vertices), %.4f without (%zu) "
+              "(pattern gradient 1 per mm)\n",
+              rms_with, n_with, rms_without, n_without);
+  EXPECT_GT(n_with, 10000u);
+  EXPECT_LT(rms_with, 0.05);    // within 50 um
+  EXPECT_GT(rms_without, 0.5);  // half a millimetre and more off
 }
 
 }  // namespace

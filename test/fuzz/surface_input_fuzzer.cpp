@@ -54,6 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   s.truncation = 0.003;
   s.min_depth = 0.01;
   s.max_depth = 2.0;
+  s.settle_time = 0;  // fused at once: the imaging projection needs a volume
   SurfaceMapper mapper(s);
   bool have_depth = false;
   for (int i = 0; i < 5 && records.next(&rec, &len); ++i) {

@@ -292,7 +292,7 @@ def report(collected, collector):
     if out and collector.surface is not None:
         res["surface"] = collector.surface.save_and_score(os.path.dirname(os.path.abspath(out)),
                                                           series.get("alignment"), collector.scene(), gt,
-                                                          res.get("diagnostics", {}))
+                                                          res.get("diagnostics", {}), est=est)
     if out:
         write_run_files(os.path.dirname(os.path.abspath(out)), res, series, est, gt)
     text = yaml.safe_dump(run_analysis.to_plain(res), default_flow_style=False, sort_keys=True)

@@ -158,6 +158,9 @@ def print_surface(sf):
     kf = f"{sf['keyframes_fused']} keyframes fused" if "keyframes_fused" in sf else "keyframes unknown"
     if "depth_keyframes_published" in sf:
         kf += f" of {sf['depth_keyframes_published']} depth keyframes"
+    if sf.get("keyframes_unsettled"):
+        kf += (f" ({sf['keyframes_unsettled']} waited for the filter to settle: {sf.get('early_keyframes_fused', 0)}"
+               f" registered and fused, {sf.get('early_keyframes_discarded', 0)} discarded)")
     if "error" in sf:
         print(f"surface               : not saved ({sf['error']}; {kf})")
         return
@@ -171,6 +174,14 @@ def print_surface(sf):
             text += (f", registration RMS {sf['registration_rms_mm']:.3f} mm, p95 {sf['registration_p95_mm']:.3f} mm"
                      f" ({sf['edge_pieces']} edge pieces)")
         print(f"surface accuracy      : {text} (ATE's alignment)")
+        pa = sf.get("pose_aligned", {})
+        if "rms_mm" in pa:
+            text = (f"mesh to truth RMS {pa['rms_mm']:.3f} mm, p95 {pa['p95_mm']:.3f} mm, completeness "
+                    f"{pa.get('completeness_pct', float('nan')):.1f} %")
+            if pa.get("edge_pieces"):
+                text += f", registration RMS {pa['registration_rms_mm']:.3f} mm, p95 {pa['registration_p95_mm']:.3f} mm"
+            print(f"surface, pose-aligned : {text} (alignment of whole poses, "
+                  f"{pa.get('angle_to_ate_alignment_deg', float('nan')):.2f} deg from the ATE's)")
     else:
         print(f"surface accuracy      : not scored ({sf.get('not_scored', sf.get('score_error', '?'))})")
     print(f"surface picture       : {sf.get('picture', 'none (%s)' % sf.get('picture_missing', '?'))}")

@@ -309,6 +309,25 @@ def registration(vertices, values, pattern):
 DEFAULT_DEPTH_RANGE = (0.15, 0.5)
 
 
+def pose_alignment(est_rotations, est_positions, ref_rotations, ref_positions):
+    """Rotation R and translation t of the rigid transform that takes the
+    estimated world to the reference one, from whole poses: R is the
+    rotation nearest to sum(R_ref_i R_est_i^T) (chordal mean), t the mean of
+    p_ref_i - R p_est_i. A hand-held scan's positions span a few centimetres
+    in one direction at most, so the positions-only (ATE) alignment leaves
+    the world's rotation uncertain by ~position noise / extent (0.7 deg in
+    the skin scan); the filter's orientations fix it to their own error, and
+    the surface 20 cm from the camera moves by the lever arm of that angle.
+    (N, 3, 3) rotations, (N, 3) positions."""
+    m = np.einsum("nij,nkj->ik", np.asarray(ref_rotations, float), np.asarray(est_rotations, float))
+    u, _, vt = np.linalg.svd(m)
+    d = np.eye(3)
+    d[2, 2] = np.sign(np.linalg.det(u @ vt))
+    r = u @ d @ vt
+    t = np.mean(np.asarray(ref_positions, float) - np.asarray(est_positions, float) @ r.T, axis=0)
+    return r, t
+
+
 def evaluate_surface(vertices, faces, surfaces, values=None, pattern=None, poses=None, camera=None,
                      depth_range=DEFAULT_DEPTH_RANGE, T_world_mesh=None):
     """Every figure that the inputs allow: accuracy always, completeness with

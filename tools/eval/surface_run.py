@@ -8,6 +8,9 @@ The mesh is in the filter's `map` frame; it is moved into the truth's world
 frame by the same rigid alignment as the ATE and the map error
 (run_analysis.analyse's series["alignment"]), so a drift of the whole
 trajectory is not counted as a surface error, as it is not in the map error.
+Given the estimated trajectory, the mesh is also scored in the alignment of
+whole poses (surface_metrics.pose_alignment: `pose_aligned`), which fixes
+the world's rotation that the positions of a hand-held scan leave loose.
 Completeness counts the true surface seen by the left camera at the ground-
 truth poses at the dense depth's keyframe rate (its ~rate parameter) and in
 the depth range that both the dense depth and the surface fuse
@@ -17,6 +20,9 @@ import os
 
 import numpy as np
 import rospy
+
+import evaluation
+import trajectory_metrics
 from sensor_msgs.msg import CameraInfo
 from std_msgs.msg import String
 
@@ -38,6 +44,8 @@ class SurfaceCollector:
         self.surface_ns = self.service.rsplit("/", 1)[0]
         self.perfusion_text = None
         self.camera = None
+        # Estimated and true poses of one frame share its stamp.
+        self.max_pose_dt = 0.005
         rospy.Subscriber(rospy.get_param("~perfusion_topic", "/ground_truth/perfusion"), String,
                          self.on_perfusion, queue_size=2)
         rospy.Subscriber(rospy.get_param("~camera_info_topic", "/stereo/left/camera_info"), CameraInfo,
@@ -111,7 +119,22 @@ class SurfaceCollector:
         out["keyframe_rate_hz"] = rate
         return out
 
-    def save_and_score(self, out_dir, alignment, scene, gt, diag, timeout=10.0):
+    def pose_aligned(self, path, est, gt, scene, alignment):
+        """The score in the alignment of whole poses (or {error}), and the
+        angle between its rotation and the positions-only `alignment`'s."""
+        pairs = evaluation.associate(est["t"], gt["t"], self.max_pose_dt)
+        if len(pairs) < 3:
+            return {"error": "fewer than 3 estimated poses match the truth"}
+        ie, ig = np.array([i for i, _ in pairs]), np.array([j for _, j in pairs])
+        R, t = surface_metrics.pose_alignment(trajectory_metrics.rotations_from_quats(np.asarray(est["q"])[ie]),
+                                              np.asarray(est["p"])[ie],
+                                              trajectory_metrics.rotations_from_quats(np.asarray(gt["q"])[ig]),
+                                              np.asarray(gt["p"])[ig])
+        out = self.score(path, (R, t), scene[1], gt)
+        out["angle_to_ate_alignment_deg"] = float(np.degrees(evaluation.rotation_angle(R.T @ alignment[0])))
+        return {k: v for k, v in out.items() if k != "keyframe_rate_hz"}
+
+    def save_and_score(self, out_dir, alignment, scene, gt, diag, timeout=10.0, est=None):
         """The report's `surface` section: the mesh saved, its score, its
         picture, and the nodelet's keyframe counts. Never raises: what is
         missing is said in `error` or `picture_missing`."""
@@ -124,9 +147,17 @@ class SurfaceCollector:
         if "published" in depth:  # the depth keyframes that crossed the robot-server link
             rep["depth_keyframes_published"] = int(float(depth["published"]))
         for key, name in (("keyframes", "keyframes_fused"), ("keyframes stored", "keyframes_stored"),
-                          ("imaging projected", "imaging_frames_projected"), ("integration", "integration")):
+                          ("imaging projected", "imaging_frames_projected"), ("integration", "integration"),
+                          ("keyframes before the filter settled", "keyframes_unsettled"),
+                          ("early keyframes registered and fused", "early_keyframes_fused"),
+                          ("early keyframes discarded", "early_keyframes_discarded"),
+                          ("keyframes waiting for a settled filter", "keyframes_waiting")):
             if key in status:
                 rep[name] = status[key] if name == "integration" else int(float(status[key]))
+        # The keyframes that waited for a settled filter and were fused then
+        # count as fused too.
+        if "keyframes_fused" in rep:
+            rep["keyframes_fused"] += rep.get("early_keyframes_fused", 0)
         if rospy.get_param("~surface_mesh_topic", ""):
             rep["mesh_messages"], rep["mesh_marker_triangles"] = self.mesh_messages, self.mesh_triangles
         if "error" in rep:
@@ -136,6 +167,8 @@ class SurfaceCollector:
         else:
             try:
                 rep.update(self.score(path, alignment, scene[1], gt))
+                if est is not None and len(est["t"]):
+                    rep["pose_aligned"] = self.pose_aligned(path, est, gt, scene, alignment)
             except (ValueError, KeyError, IndexError) as e:
                 rep["score_error"] = str(e)
         try:

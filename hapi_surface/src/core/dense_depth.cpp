@@ -62,8 +62,14 @@ cv::Mat DenseDepth::sgbmDisparity(const cv::Mat& left, const cv::Mat& right, con
   cv::copyMakeBorder(left, lp, 0, 0, pad, 0, cv::BORDER_REPLICATE);
   cv::copyMakeBorder(right, rp, 0, 0, pad, 0, cv::BORDER_REPLICATE);
   sgbm->compute(lp, rp, raw);  // CV_16S, 1/16 px
-  cv::Mat d;
-  raw(cv::Rect(pad, 0, left.cols, left.rows)).convertTo(d, CV_32F, 1.0 / 16.0);
+  // OpenCV's SGBM (4.6, every block size) writes the disparity of row v into
+  // row v + 1: a step of the true disparity between rows v - 1 and v comes
+  // out between v and v + 1 (test DenseDepth.DisparityStepStaysOnItsRow).
+  // At 22 cm and half resolution one row is 0.9 mm, and the fused skin was
+  // displaced by it (docs/SURFACE.md). Rows move up by one; the last row has
+  // no match.
+  cv::Mat d(left.size(), CV_32F, cv::Scalar(search.min_disparity - 1));
+  raw(cv::Rect(pad, 1, left.cols, left.rows - 1)).convertTo(d.rowRange(0, left.rows - 1), CV_32F, 1.0 / 16.0);
   return d;
 }
 

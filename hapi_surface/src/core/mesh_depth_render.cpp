@@ -30,12 +30,15 @@ FloatImage renderMeshDepth(const Mesh& mesh, const PinholeCamera& cam, const Eig
     bool visible = true;
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector3d& p = pc[f[c]];
-      if (!(p.z() > kNearPlane)) visible = false;
+      if (!(p.z() > kNearPlane) || !cam.nearView(p)) visible = false;
       inv_z[c] = 1.0 / p.z();
-      px[c] = Eigen::Vector2d(cam.fx * p.x() * inv_z[c] + cam.cx, cam.fy * p.y() * inv_z[c] + cam.cy);
+      // With distortion the triangle's edges are drawn straight between its
+      // distorted corners: the mesh's triangles span a few pixels.
+      if (visible) px[c] = cam.project(p);
     }
+    if (!visible) continue;
     const double area = edge(px[0], px[1], px[2]);
-    if (!visible || !(std::abs(area) > 1e-12)) continue;
+    if (!(std::abs(area) > 1e-12)) continue;
     const int u0 = std::max(0, static_cast<int>(std::ceil(std::min({px[0].x(), px[1].x(), px[2].x()}))));
     const int u1 = std::min(cam.width - 1, static_cast<int>(std::floor(std::max({px[0].x(), px[1].x(), px[2].x()}))));
     const int v0 = std::max(0, static_cast<int>(std::ceil(std::min({px[0].y(), px[1].y(), px[2].y()}))));

@@ -1,6 +1,7 @@
 #include "hapi_surface/surface_mapper.hpp"
 
 #include "hapi_surface/mesh_extraction.hpp"
+#include "hapi_surface/sdf_registration.hpp"
 
 #include <algorithm>
 
@@ -9,11 +10,20 @@ namespace hapi_surface {
 SurfaceMapper::SurfaceMapper(const SurfaceSettings& s)
     : settings_(s),
       integrator_([](TsdfVolume* v, const DepthFrame& f) { return v->integrate(f); }),
-      mesher_([](const TsdfVolume& v) { return extractMesh(v); }) {}
+      mesher_([](const TsdfVolume& v) { return extractMesh(v); }),
+      gate_(s) {}
+
+const Keyframe* SurfaceMapper::lastKeyframe() const {
+  const Keyframe* fused = keyframes_.empty() ? nullptr : &keyframes_.back();
+  const Keyframe* waiting = waiting_.empty() ? nullptr : &waiting_.back();
+  if (!fused || !waiting) return fused ? fused : waiting;
+  return fused->stamp >= waiting->stamp ? fused : waiting;
+}
 
 bool SurfaceMapper::isKeyframe(double stamp, const Eigen::Isometry3d& T) const {
-  if (keyframes_.empty()) return true;
-  const Keyframe& last = keyframes_.back();
+  const Keyframe* k = lastKeyframe();
+  if (!k) return true;
+  const Keyframe& last = *k;
   return translationBetween(last.frame.T_world_camera, T) >= settings_.keyframe_translation ||
          rotationBetween(last.frame.T_world_camera, T) >= settings_.keyframe_rotation ||
          stamp - last.stamp >= settings_.keyframe_interval;
@@ -41,22 +51,69 @@ SurfaceStatus SurfaceMapper::addDepthFrame(double stamp, DepthFrame frame, const
   frame.T_world_camera = *pose;
   SurfaceStatus st = checkDepthFrame(frame, settings_);
   if (st != SurfaceStatus::kOk) return st;
+  gate_.notePose(stamp);
   if (!isKeyframe(stamp, frame.T_world_camera)) {
     *use = FrameUse::kSkipped;
     return SurfaceStatus::kOk;
   }
+  const std::size_t max_keyframes = static_cast<std::size_t>(settings_.max_keyframes);
+  if (!gate_.settled(stamp)) {
+    waiting_.push_back(Keyframe{stamp, std::move(frame)});
+    for (; waiting_.size() > max_keyframes; ++waiting_discarded_) waiting_.pop_front();
+    *use = FrameUse::kWaiting;
+    return SurfaceStatus::kOk;
+  }
   if (!volume_ && (st = placeVolume(frame)) != SurfaceStatus::kOk) return st;
+  registerSettled(&frame);
   st = integrator_(volume_.get(), frame);
   if (st != SurfaceStatus::kOk) return st;
   keyframes_.push_back(Keyframe{stamp, std::move(frame)});
-  while (keyframes_.size() > static_cast<std::size_t>(settings_.max_keyframes)) keyframes_.pop_front();
+  if (!waiting_.empty() && keyframes_.size() >= static_cast<std::size_t>(settings_.settle_keyframes)) fuseWaiting();
+  while (keyframes_.size() > max_keyframes) keyframes_.pop_front();
   mesh_stale_ = true;
   *use = FrameUse::kKeyframe;
   return SurfaceStatus::kOk;
 }
 
+void SurfaceMapper::registerSettled(DepthFrame* frame) {
+  if (!settings_.register_keyframes || keyframes_.size() < static_cast<std::size_t>(settings_.settle_keyframes)) return;
+  const Registration r = registerToSurface(*volume_, *frame);
+  if (!r.accepted) {
+    ++unregistered_;
+    return;
+  }
+  frame->T_world_camera = r.T_world_camera;
+  ++registered_;
+}
+
+void SurfaceMapper::fuseWaiting() {
+  for (Keyframe& k : waiting_) {
+    if (settings_.register_waiting) {
+      const Registration r = registerToSurface(*volume_, k.frame);
+      if (!r.accepted) {
+        ++waiting_discarded_;
+        continue;
+      }
+      k.frame.T_world_camera = r.T_world_camera;
+    }
+    if (integrator_(volume_.get(), k.frame) != SurfaceStatus::kOk) {
+      ++waiting_discarded_;
+      continue;
+    }
+    const auto at = std::upper_bound(keyframes_.begin(), keyframes_.end(), k.stamp,
+                                     [](double t, const Keyframe& f) { return t < f.stamp; });
+    keyframes_.insert(at, std::move(k));
+    ++waiting_fused_;
+  }
+  waiting_.clear();
+}
+
 bool SurfaceMapper::correctPoses(const PoseCorrection& corrected) {
   bool rebuild = false;
+  for (Keyframe& k : waiting_) {
+    const std::optional<Eigen::Isometry3d> T = corrected(k.stamp, k.frame.T_world_camera);
+    if (T && checkPose(*T) == SurfaceStatus::kOk) k.frame.T_world_camera = *T;
+  }
   for (Keyframe& k : keyframes_) {
     const std::optional<Eigen::Isometry3d> T = corrected(k.stamp, k.frame.T_world_camera);
     if (!T || checkPose(*T) != SurfaceStatus::kOk) continue;

@@ -62,8 +62,9 @@ ProjectionResult SurfaceValues::addFrame(const TsdfVolume& volume, const Mesh& m
     const Eigen::Vector3i c = g.coords(idx);
     const Eigen::Vector3d x = g.centre(c.x(), c.y(), c.z());
     const Eigen::Vector3d p = T_cw * x;
-    if (!(p.z() > 0)) continue;
-    const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
+    if (!cam.nearView(p)) continue;
+    const Eigen::Vector2d uv = cam.project(p);
+    const double u = uv.x(), v = uv.y();
     const int pu = static_cast<int>(std::floor(u + 0.5)), pv = static_cast<int>(std::floor(v + 0.5));
     if (pu < 0 || pv < 0 || pu >= cam.width || pv >= cam.height) continue;
     // Occlusion (S4): the rendered surface must not lie in front.

@@ -14,7 +14,8 @@ VoxelGrid VoxelGrid::centredAt(const Eigen::Vector3d& centre, const SurfaceSetti
 }
 
 SurfaceStatus checkDepthFrame(const DepthFrame& f, const SurfaceSettings& s) {
-  if (f.camera.check() != SurfaceStatus::kOk) return SurfaceStatus::kBadCamera;
+  // Depth images are rectified: the integration (S1) projects without distortion.
+  if (f.camera.check() != SurfaceStatus::kOk || f.camera.hasDistortion()) return SurfaceStatus::kBadCamera;
   if (checkPose(f.T_world_camera) != SurfaceStatus::kOk) return SurfaceStatus::kBadPose;
   const std::size_t n = static_cast<std::size_t>(f.camera.width) * static_cast<std::size_t>(f.camera.height);
   if (f.depth.width != f.camera.width || f.depth.height != f.camera.height || f.depth.data.size() != n)

@@ -1,5 +1,6 @@
 #include "surface_conversions.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hapi_surface {
@@ -14,6 +15,21 @@ SurfaceStatus toCamera(const sensor_msgs::CameraInfo& info, PinholeCamera* out) 
   c.cx = info.K[2];
   c.fy = info.K[4];
   c.cy = info.K[5];
+  // plumb_bob: k1 k2 p1 p2 [k3]; rational_polynomial only when its extra
+  // terms (k4 k5 k6) are 0, i.e. plumb_bob; no model: no distortion.
+  const std::vector<double>& D = info.D;
+  const std::string& model = info.distortion_model;
+  const bool plumb_bob = model == "plumb_bob" && (D.size() == 4 || D.size() == 5);
+  const bool rational = model == "rational_polynomial" && D.size() == 8 && D[5] == 0 && D[6] == 0 && D[7] == 0;
+  const bool none = model.empty() && std::all_of(D.begin(), D.end(), [](double d) { return d == 0; });
+  if (!plumb_bob && !rational && !none) return SurfaceStatus::kBadCamera;
+  if (plumb_bob || rational) {
+    c.k1 = D[0];
+    c.k2 = D[1];
+    c.p1 = D[2];
+    c.p2 = D[3];
+    c.k3 = D.size() > 4 ? D[4] : 0.0;
+  }
   if (c.check() != SurfaceStatus::kOk) return SurfaceStatus::kBadCamera;
   *out = c;
   return SurfaceStatus::kOk;

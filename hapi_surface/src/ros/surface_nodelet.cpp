@@ -7,6 +7,7 @@
 #include "hapi_surface/depth_image_contract.hpp"
 #include "hapi_surface/mesh_extraction.hpp"
 #include "hapi_surface/ply_io.hpp"
+#include "hapi_surface/textured_obj.hpp"
 #ifdef HAPI_SURFACE_WITH_CUDA
 #include "hapi_surface/cuda/tsdf_cuda.hpp"
 #endif
@@ -14,6 +15,8 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <tf2_eigen/tf2_eigen.h>
 #include <visualization_msgs/Marker.h>
+
+#include <cmath>
 
 namespace hapi_surface {
 
@@ -26,6 +29,7 @@ SurfaceNodelet::~SurfaceNodelet() {
   imaging_info_sub_.shutdown();
   confidence_sub_.shutdown();
   path_sub_.shutdown();
+  odom_sub_.shutdown();
   depth_sub_.unsubscribe();
   imaging_sub_.unsubscribe();
   save_srv_.shutdown();
@@ -70,7 +74,10 @@ void SurfaceNodelet::onInit() {
           const SurfaceStatus st = ros_glue::toCamera(*msg, &c);
           if (st != SurfaceStatus::kOk) {
             stats_.reject(&stats_.camera_info_rejected, st);
-            NODELET_ERROR_THROTTLE(2.0, "CameraInfo of '%s' rejected: %s", msg->header.frame_id.c_str(), toString(st));
+            NODELET_ERROR_THROTTLE(2.0,
+                                   "CameraInfo of '%s' rejected: %s (needs a positive K, distortion model plumb_bob "
+                                   "or none; depth images rectified)",
+                                   msg->header.frame_id.c_str(), toString(st));
             return;
           }
           std::lock_guard<std::mutex> lk(mu_);
@@ -82,6 +89,7 @@ void SurfaceNodelet::onInit() {
   if (params_.use_confidence)
     confidence_sub_ = nh.subscribe(kConfidenceTopic, params_.queue_size, &SurfaceNodelet::confidenceCallback, this);
   path_sub_ = nh.subscribe("path", 1, &SurfaceNodelet::pathCallback, this);
+  odom_sub_ = nh.subscribe("odom", 50, &SurfaceNodelet::odomCallback, this);
   subscribeWithTf(kDepthTopic, &depth_sub_, &depth_filter_, &SurfaceNodelet::depthCallback, &stats_.depth_no_tf);
   subscribeWithTf("imaging/image", &imaging_sub_, &imaging_filter_, &SurfaceNodelet::imagingCallback,
                   &stats_.imaging_no_tf);
@@ -108,6 +116,8 @@ void SurfaceNodelet::resetMapper() {
 #endif
   last_path_.clear();
   last_projection_ = ros::Time();
+  std::lock_guard<std::mutex> lk(odom_mu_);
+  odom_.clear();
 }
 
 void SurfaceNodelet::subscribeWithTf(const std::string& topic, message_filters::Subscriber<sensor_msgs::Image>* sub,
@@ -169,6 +179,7 @@ void SurfaceNodelet::depthCallback(const sensor_msgs::ImageConstPtr& msg) {
   }
   if (st == SurfaceStatus::kOk && !depth_camera_) st = SurfaceStatus::kBadCamera;
   FrameUse use = FrameUse::kRejected;
+  takeOdometry();
   if (st == SurfaceStatus::kOk) {
     frame.camera = *depth_camera_;
     if (params_.use_confidence) frame.weight = confidenceAt(msg->header.stamp);
@@ -181,8 +192,47 @@ void SurfaceNodelet::depthCallback(const sensor_msgs::ImageConstPtr& msg) {
                            depth_camera_ ? "" : ", no depth_camera_info yet");
     return;
   }
-  ++(use == FrameUse::kKeyframe ? stats_.keyframes : stats_.depth_skipped);
+  ++(use == FrameUse::kKeyframe ? stats_.keyframes : use == FrameUse::kWaiting ? stats_.keyframes_unsettled
+                                                                               : stats_.depth_skipped);
+  countKeyframes();
+}
+
+void SurfaceNodelet::countKeyframes() {
   stats_.keyframes_stored = mapper_->keyframes().size();
+  const WaitingCounts w = mapper_->waitingCounts();
+  stats_.keyframes_waiting = w.waiting;
+  stats_.early_keyframes_fused = w.fused;
+  stats_.early_keyframes_discarded = w.discarded;
+  stats_.keyframes_registered = w.registered;
+  stats_.keyframes_unregistered = w.unregistered;
+}
+
+void SurfaceNodelet::odomCallback(const nav_msgs::OdometryConstPtr& msg) {
+  const auto& C = msg->pose.covariance;  // row-major 6 x 6: x y z, then rotation about x y z
+  PoseUncertainty u;
+  u.stamp = msg->header.stamp.toSec();
+  u.position_std = std::sqrt(C[0] + C[7] + C[14]);
+  u.rotation_std = std::sqrt(C[21] + C[28] + C[35]);
+  if (!std::isfinite(u.position_std) || !std::isfinite(u.rotation_std)) {
+    ++stats_.odom_rejected;
+    NODELET_ERROR_THROTTLE(5.0, "odometry at %.6f ignored: its pose covariance has a negative or non-finite variance",
+                           u.stamp);
+    return;
+  }
+  // Not under mu_: odometry comes at the IMU rate and must not wait for an
+  // integration (it would hold the manager's threads); the depth callback
+  // hands the buffered uncertainties to the mapper.
+  std::lock_guard<std::mutex> lk(odom_mu_);
+  odom_.push_back(u);
+}
+
+void SurfaceNodelet::takeOdometry() {
+  std::vector<PoseUncertainty> batch;
+  {
+    std::lock_guard<std::mutex> lk(odom_mu_);
+    batch.swap(odom_);
+  }
+  for (const PoseUncertainty& u : batch) mapper_->addPoseUncertainty(u);
 }
 
 void SurfaceNodelet::imagingCallback(const sensor_msgs::ImageConstPtr& msg) {
@@ -239,6 +289,7 @@ void SurfaceNodelet::pathCallback(const nav_msgs::PathConstPtr& msg) {
     ++stats_.rebuilds;
     NODELET_INFO("surface rebuilt from %zu keyframes after a pose correction", mapper_->keyframes().size());
   }
+  countKeyframes();
   last_path_ = std::move(path);
 }
 
@@ -274,7 +325,10 @@ bool SurfaceNodelet::saveService(hapi_msgs::SaveSurface::Request& req, hapi_msgs
   }
   stats_.vertices = mesh.vertices.size();
   stats_.faces = mesh.faces.size();
-  const SurfaceStatus st = mesh.empty() ? SurfaceStatus::kNoVolume : writePly(req.path, mesh, colours(mesh));
+  // A path ending in .obj: OBJ + MTL + PNG texture of the values (textured_obj.hpp); else PLY.
+  const SurfaceStatus st = mesh.empty()             ? SurfaceStatus::kNoVolume
+                           : isObjPath(req.path) ? writeTexturedObj(req.path, mesh, colours(mesh))
+                                                 : writePly(req.path, mesh, colours(mesh));
   res.success = st == SurfaceStatus::kOk;
   res.vertices = static_cast<std::uint32_t>(mesh.vertices.size());
   res.faces = static_cast<std::uint32_t>(mesh.faces.size());

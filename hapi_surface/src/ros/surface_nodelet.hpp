@@ -10,10 +10,13 @@
 //   imaging/camera_info  its CameraInfo
 //   path              nav_msgs/Path of the filter (optional): a change of a
 //                     past pose corrects the keyframes (rebuild)
+//   odom              nav_msgs/Odometry of the filter (optional): its pose
+//                     covariance for the settle rule (settle_gate.hpp)
 //   TF                ~world_frame -> each image's frame at its stamp
 // Out: ~mesh (visualization_msgs/Marker TRIANGLE_LIST, per-vertex colours of
 //   the projected value, every ~mesh_period), service ~save_surface
-//   (hapi_msgs/SaveSurface: PLY), /diagnostics ("surface").
+//   (hapi_msgs/SaveSurface: PLY, or OBJ + MTL + PNG texture for a path
+//   ending in .obj), /diagnostics ("surface").
 // One mutex guards the mapper; the callbacks may run on several threads.
 #pragma once
 
@@ -28,6 +31,7 @@
 #include <hapi_nodelet_kit/stamp_guard.hpp>
 #include <hapi_nodelet_kit/startup_failure.hpp>
 #include <message_filters/subscriber.h>
+#include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
@@ -42,6 +46,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <vector>
 
 namespace hapi_surface {
 
@@ -59,6 +64,11 @@ class SurfaceNodelet : public nodelet::Nodelet {
   void confidenceCallback(const sensor_msgs::ImageConstPtr& msg);
   void imagingCallback(const sensor_msgs::ImageConstPtr& msg);
   void pathCallback(const nav_msgs::PathConstPtr& msg);
+  void odomCallback(const nav_msgs::OdometryConstPtr& msg);
+  // The mapper's keyframe counters into stats_ (under mu_).
+  void countKeyframes();
+  // The odometry's uncertainties received since the last call, into the mapper (under mu_).
+  void takeOdometry();
   void publishMesh();
   bool saveService(hapi_msgs::SaveSurface::Request& req, hapi_msgs::SaveSurface::Response& res);
   // ~world_frame -> frame at stamp (TF has it: the message filters waited).
@@ -89,13 +99,15 @@ class SurfaceNodelet : public nodelet::Nodelet {
   std::optional<PinholeCamera> depth_camera_, imaging_camera_;
   std::deque<sensor_msgs::ImageConstPtr> confidence_;
   std::map<std::uint64_t, Eigen::Isometry3d> last_path_;  // stamp (ns) -> pose
+  std::mutex odom_mu_;                 // guards odom_ only
+  std::vector<PoseUncertainty> odom_;  // received, not yet in the mapper
   ros::Time last_projection_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   message_filters::Subscriber<sensor_msgs::Image> depth_sub_, imaging_sub_;
   std::unique_ptr<ImageFilter> depth_filter_, imaging_filter_;
-  ros::Subscriber depth_info_sub_, imaging_info_sub_, confidence_sub_, path_sub_;
+  ros::Subscriber depth_info_sub_, imaging_info_sub_, confidence_sub_, path_sub_, odom_sub_;
   ros::Publisher mesh_pub_;
   ros::ServiceServer save_srv_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;

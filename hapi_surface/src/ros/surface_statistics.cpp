@@ -12,7 +12,7 @@ void SurfaceStatistics::reject(Counter* counter, SurfaceStatus why) {
 }
 
 void SurfaceStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
-  const std::uint64_t depth = depth_received, used = keyframes + depth_skipped + time_jumps, imaging = imaging_received,
+  const std::uint64_t depth = depth_received, used = keyframes + keyframes_unsettled + depth_skipped + time_jumps, imaging = imaging_received,
                       projected = imaging_projected + imaging_throttled;
   if (depth > last_depth_ && used == last_used_)
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "depth images arrive but none is used (see the rejections)");
@@ -35,7 +35,14 @@ void SurfaceStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
       {"rebuilds", &rebuilds},                 {"meshes published", &meshes_published},
       {"saves", &saves},                       {"saves failed", &saves_failed},
       {"mesh vertices", &vertices},            {"mesh faces", &faces},
-      {"keyframes stored", &keyframes_stored}};
+      {"keyframes stored", &keyframes_stored},
+      {"keyframes before the filter settled", &keyframes_unsettled},
+      {"keyframes waiting for a settled filter", &keyframes_waiting},
+      {"early keyframes registered and fused", &early_keyframes_fused},
+      {"early keyframes discarded", &early_keyframes_discarded},
+      {"keyframes registered", &keyframes_registered},
+      {"keyframes not registered (filter pose)", &keyframes_unregistered},
+      {"odometry rejected", &odom_rejected}};
   for (const auto& k : keys) stat.add(k.first, static_cast<unsigned long long>(k.second->load()));
   stat.add("integration", on_gpu ? "cuda" : "cpu");
   std::lock_guard<std::mutex> lk(mu_);

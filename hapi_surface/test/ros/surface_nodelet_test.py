@@ -144,6 +144,20 @@ class SurfaceNodeletTest(unittest.TestCase):
         self.assertIn(b"property float value\n", head)
         bad = save("/nonexistent-folder/skin.ply")
         self.assertFalse(bad.success)
+        # A path ending in .obj: OBJ with texture coordinates, its MTL and the
+        # PNG texture atlas next to it.
+        obj = os.path.join(tempfile.mkdtemp(), "skin.obj")
+        r = save(obj)
+        self.assertTrue(r.success, r.message)
+        with open(obj) as f:
+            lines = f.read().splitlines()
+        self.assertIn("mtllib skin.mtl", lines)
+        self.assertEqual(sum(1 for l in lines if l.startswith("f ")), r.faces)
+        self.assertEqual(sum(1 for l in lines if l.startswith("vt ")), 3 * r.faces)
+        with open(obj[:-4] + ".mtl") as f:
+            self.assertIn("map_Kd skin.png", f.read())
+        with open(obj[:-4] + ".png", "rb") as f:
+            self.assertTrue(f.read(8) == b"\x89PNG\r\n\x1a\n")
 
         # Bad input: counted, and the node goes on.
         before = self.counter("surface", "depth rejected")
