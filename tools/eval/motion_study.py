@@ -11,7 +11,7 @@ scores every method in the form of the thesis's appendix A tables.
   surface_motion_replay                      our surface motion: causal and smoothed
   Farneback, DIS, pyramidal LK (OpenCV)      the baselines, each on every consecutive frame pair
 
-    motion_study.py [--scenarios stage_1,stage_5,...] [--seeds N] [--duration 7] [--data DIR] [--out DIR]
+    motion_study.py [--scenarios stage_1,stage_5,...] [--seeds N] [--duration 7] [--data DIR] [--out DIR] [--set KEY=VALUE ...]
                     [--markdown FILE] [--plots DIR]
 
 Per method and scenario (seeds pooled): the image velocity's MAE and SD in
@@ -142,13 +142,13 @@ def baseline_flows(frames, pixel, method):
 
 # ---------------------------------------------------------------- our output
 
-def our_outputs(bag, stem, scene, info, data, out, log):
-    """eskf_replay (inertial), imaging_flow_replay and surface_motion_replay on one bag:
-    (causal, smoothed) rows of surface_motion_replay, on the camera clock."""
+def our_outputs(bag, stem, scene, info, data, out, log, settings=()):
+    """eskf_replay (inertial, with the filter settings KEY=VALUE), imaging_flow_replay and surface_motion_replay
+    on one bag: (causal, smoothed) rows of surface_motion_replay, on the camera clock."""
     txt = accuracy.landmark_stream(bag, stem, FRONTEND_ARGS.get(scene, []), data, log)
     told = accuracy.time_offset(bag, "/calibration", default=accuracy.time_offset(bag))
     prefix = os.path.join(out, stem + "_inertial")
-    st, _ = accuracy.replay(txt, "inertial", told, prefix, log)
+    st, _ = accuracy.replay(txt, "inertial", told, prefix, log, settings)
     if st != 0:
         raise RuntimeError(f"eskf_replay failed for {stem} (see {log})")
     flow = prefix + "_flow.txt"
@@ -313,7 +313,7 @@ def plot(name, truth, offset, ours, frames, flows_fb, info, out_png):
 
 # ---------------------------------------------------------------- main
 
-def study(name, seeds, duration, data, out, log, plots_dir):
+def study(name, seeds, duration, data, out, log, plots_dir, settings=()):
     pooled = {m: [] for m in METHODS}
     instants = {"ours_200hz": [], "ours_smoothed_200hz": []}
     nees_runs = []
@@ -321,7 +321,7 @@ def study(name, seeds, duration, data, out, log, plots_dir):
         stem, bag, scene = scenario_bag(name, seed, duration, data, log)
         frames, info, truth = read_imaging(bag)
         offset = accuracy.time_offset(bag)
-        ours, smoothed = our_outputs(bag, stem, scene, info, data, out, log)
+        ours, smoothed = our_outputs(bag, stem, scene, info, data, out, log, settings)
         flows = {m: baseline_flows(frames, truth["pixel"], m) for m in BASELINES}
         rows = score_run(frames, info, truth, offset, flows, ours, smoothed)
         for m in METHODS:
@@ -354,6 +354,8 @@ def parse_args(argv):
     ap.add_argument("--out", default="/tmp/hapi_motion")
     ap.add_argument("--markdown")
     ap.add_argument("--plots", help="folder for the velocity plots (seed 1 of each scenario)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a filter setting for eskf_replay (e.g. scene_motion=true), repeatable")
     return ap.parse_args(argv)
 
 
@@ -367,7 +369,7 @@ def main(argv=None):
     for name in a.scenarios.split(","):
         if name not in SCENARIOS:
             raise SystemExit(f"unknown scenario {name} (known: {', '.join(SCENARIOS)})")
-        results[name] = study(name, seeds, a.duration, a.data, a.out, log, a.plots)
+        results[name] = study(name, seeds, a.duration, a.data, a.out, log, a.plots, a.set)
         print(table({name: results[name]}), flush=True)
     text = table(results)
     nees = {k: r["velocity_anees"] for k, r in results.items() if "velocity_anees" in r}

@@ -69,7 +69,8 @@ class InertialMotionModel final : public MotionModel {
   // body's (w - b_g) in camera axes; its velocity adds the lever arm,
   // v_wc = v + R_wb (omega x p_bc). With the surface's motion, both are
   // relative to the surface: the rate less w_s, the velocity less the
-  // surface's at the camera, u_s + w_s x p_wc.
+  // surface's at the camera, u_s + w_s x R_wb p_bc (u_s is its velocity at
+  // the body).
   PoseState camera(const NominalState& x) const override {
     const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = rotationBc(x);
     const Vec3& p_bc = translationBc(x);
@@ -81,7 +82,7 @@ class InertialMotionModel final : public MotionModel {
     c.v = (R_wb * R_bc).transpose() * (x.v + R_wb * omega.cross(p_bc));
     if (scene_.any()) {
       c.w -= (R_wb * R_bc).transpose() * x.w_s;
-      c.v -= (R_wb * R_bc).transpose() * (x.u_s + x.w_s.cross(c.p));
+      c.v -= (R_wb * R_bc).transpose() * (x.u_s + x.w_s.cross(R_wb * p_bc));
     }
     return c;
   }
@@ -148,7 +149,7 @@ class InertialMotionModel final : public MotionModel {
   }
   // v is the body's world-frame velocity; the camera's displacement is the
   // body's (rotation changes are taken by the pose). A held device did not
-  // move: the surface did, by -dp_world (d/dt p = v - w_s x p - u_s).
+  // move: the surface did, by -dp_world (d/dt p = v - u_s).
   void correctVelocity(NominalState* x, const Vec3& dp_world, double dt, bool scene_moving) const override {
     if (scene_moving && scene_.any())
       x->u_s -= dp_world / dt;
@@ -302,14 +303,14 @@ class InertialMotionModel final : public MotionModel {
   static Vec3 rate(const NominalState& x) { return x.has_imu ? Vec3(x.w - x.b_g) : Vec3::Zero(); }
 
   // The surface's motion over a step (docs/DESIGN.md "Scene motion state"):
-  // the world frame turns by w_s and moves by u_s in the inertial one, so
-  // in it the device's pose and inertial velocity and gravity turn the
-  // other way, R' = Exp(-w_s dt) R Exp(omega dt), v' -= (w_s x v) dt,
-  // g' -= (w_s x g) dt, and the device moves relative to it,
-  // p' -= (w_s x p + u_s) dt; u_s and w_s decay by exp(-dt / tau).
+  // the world frame turns by w_s in the inertial one and its point at the
+  // body moves by u_s, so in it the device's pose, inertial velocity and
+  // gravity turn the other way, R' = Exp(-w_s dt) R Exp(omega dt),
+  // v' -= (w_s x v) dt, g' -= (w_s x g) dt, and the device moves relative
+  // to it, p' -= u_s dt; u_s and w_s decay by exp(-dt / tau).
   void stepScene(const NominalState& x, double dt, NominalState* next) const {
     next->q = (quatExp(-x.w_s * dt) * next->q).normalized();
-    next->p -= (x.w_s.cross(x.p) + x.u_s) * dt;
+    next->p -= x.u_s * dt;
     next->v -= x.w_s.cross(x.v) * dt;
     next->g -= x.w_s.cross(x.g) * dt;
     const double phi = std::exp(-dt / s_.scene_time_constant);
@@ -317,19 +318,17 @@ class InertialMotionModel final : public MotionModel {
     next->w_s = phi * x.w_s;
   }
 
-  // stepScene's blocks of F and Q: the -[w_s]x dt terms on p, v and g, their
-  // w_s columns [p]x dt, [v]x dt, [g]x dt, u_s's -I dt on p, the rotation's
+  // stepScene's blocks of F and Q: the -[w_s]x dt terms on v and g, their
+  // w_s columns [v]x dt, [g]x dt, u_s's -I dt on p, the rotation's
   // -(R Exp(omega dt))^T J_r(-w_s dt) dt (the left turn seen in the body
   // frame), and the Gauss-Markov decay phi with stationary variance
   // sigma^2, Q = sigma^2 (1 - phi^2).
   void sceneTransition(const NominalState& x, const NominalState& next, double dt, PoseMat* F, PoseMat* Q) const {
     const int u = scene_.row, w = scene_.row + 3;
     const Mat3 Ws = skew(x.w_s) * dt, I = Mat3::Identity();
-    F->block<3, 3>(kIdxP, kIdxP) -= Ws;
     F->block<3, 3>(kIdxV, kIdxV) -= Ws;
     F->block<3, 3>(kIdxG, kIdxG) -= Ws;
     F->block<3, 3>(kIdxP, u) = -I * dt;
-    F->block<3, 3>(kIdxP, w) = skew(x.p) * dt;
     F->block<3, 3>(kIdxV, w) = skew(x.v) * dt;
     F->block<3, 3>(kIdxG, w) = skew(x.g) * dt;
     const Mat3 R_turned = quatExp(-x.w_s * dt).conjugate() * next.q.toRotationMatrix();
@@ -342,24 +341,23 @@ class InertialMotionModel final : public MotionModel {
   }
 
   // cameraStateJacobian's terms of the surface's motion, from camera()'s
-  // c.v -= R_cw y with y = u_s + w_s x p_wc (the surface's velocity at the
-  // camera) and c.w -= R_cw w_s, R_cw = R_bc^T R_wb^T:
-  //   dv_c += -R_cw [w_s]x dp + (-R_bc^T [R_wb^T y]x + R_cw [w_s]x R_wb [p_bc]x) dtheta
-  //           - R_cw du_s + R_cw [p_wc]x dw_s,
+  // c.v -= R_cw y with y = u_s + w_s x R_wb p_bc (the surface's velocity at
+  // the camera) and c.w -= R_cw w_s, R_cw = R_bc^T R_wb^T:
+  //   dv_c += (-R_bc^T [R_wb^T y]x + R_cw [w_s]x R_wb [p_bc]x) dtheta
+  //           - R_cw du_s + R_cw [R_wb p_bc]x dw_s,
   //   dw_c += -R_bc^T [R_wb^T w_s]x dtheta - R_cw dw_s
   // (the extrinsic's dp_bc column in cameraStateJacobian).
   void addSceneColumns(const NominalState& x, Mat12xP* T) const {
     const Mat3 R_wb = x.q.toRotationMatrix(), &R_bc = rotationBc(x);
     const Vec3& p_bc = translationBc(x);
     const Mat3 R_cw = (R_wb * R_bc).transpose(), Rcb = R_bc.transpose();
-    const Vec3 p_c = x.p + R_wb * p_bc;
-    const Vec3 y = x.u_s + x.w_s.cross(p_c);  // the surface's velocity at the camera
+    const Vec3 lever = R_wb * p_bc;
+    const Vec3 y = x.u_s + x.w_s.cross(lever);  // the surface's velocity at the camera
     const int u = scene_.row, w = scene_.row + 3;
-    T->block<3, 3>(6, kIdxP) -= R_cw * skew(x.w_s);
     T->block<3, 3>(6, kIdxTheta) += -Rcb * skew(R_wb.transpose() * y) + R_cw * skew(x.w_s) * R_wb * skew(p_bc);
     T->block<3, 3>(9, kIdxTheta) -= Rcb * skew(R_wb.transpose() * x.w_s);
     T->block<3, 3>(6, u) = -R_cw;
-    T->block<3, 3>(6, w) = R_cw * skew(p_c);
+    T->block<3, 3>(6, w) = R_cw * skew(lever);
     T->block<3, 3>(9, w) = -R_cw;
   }
   // The extrinsic camera(x) uses: the state's when calibrated, else the
