@@ -32,6 +32,19 @@ TEST(FloatImage, Mono8WithRowPadding) {
   EXPECT_EQ(f.data, (std::vector<float>{0, 7, 255, 9}));
 }
 
+TEST(FloatImage, Mono8ConfidenceIsAWeightOfAtMostOne) {
+  FloatImage f;
+  const std::vector<std::uint8_t> b = {0, 51, 255, 0};
+  ASSERT_EQ(toConfidenceImage(view("mono8", 2, 2, 2, b), &f), SurfaceStatus::kOk);
+  ASSERT_EQ(f.data.size(), 4u);
+  EXPECT_FLOAT_EQ(f.data[0], 0.f);
+  EXPECT_FLOAT_EQ(f.data[1], 0.2f);
+  EXPECT_FLOAT_EQ(f.data[2], 1.f);
+  const std::vector<std::uint8_t> x = {0, 0, 0x80, 0x3f};  // 1.0f, little-endian 32FC1
+  ASSERT_EQ(toConfidenceImage(view("32FC1", 1, 1, 4, x), &f), SurfaceStatus::kOk);
+  EXPECT_EQ(f.data, (std::vector<float>{1}));
+}
+
 TEST(FloatImage, Mono16BothByteOrders) {
   FloatImage f;
   const std::vector<std::uint8_t> le = {0x34, 0x12, 0xff, 0xff};

@@ -41,6 +41,10 @@ constexpr std::uint32_t kMaxImageSide = 16384;
 // step * height); *out is untouched then.
 SurfaceStatus toFloatImage(const RawImageView& image, FloatImage* out);
 
+// *out = the depth confidence (depth_image_contract.hpp) as weights: as
+// toFloatImage, a mono8 / 8UC1 image divided by kConfidenceMono8One.
+SurfaceStatus toConfidenceImage(const RawImageView& image, FloatImage* out);
+
 // The encodings toFloatImage accepts, as one text for error messages.
 const char* floatEncodingsText();
 

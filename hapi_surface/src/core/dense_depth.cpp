@@ -50,10 +50,17 @@ cv::Mat DenseDepth::disparity(const cv::Mat& left, const cv::Mat& right, const D
 cv::Mat DenseDepth::sgbmDisparity(const cv::Mat& left, const cv::Mat& right, const DisparitySearch& search) const {
   const DenseDepthSettings& s = settings_;
   const int area = s.block_size * s.block_size;
+  // Both modes aggregate along paths from above and from below (two passes,
+  // MODE_HH4: the four axis directions). OpenCV's 5-path MODE_SGBM takes
+  // only paths from the rows above in its single pass: each row leans to the
+  // rows above it, 1.5 rows of the half-resolution skin scene (a step of the
+  // true disparity between rows v - 1 and v came out between v and v + 1),
+  // 1-3 mm across the arm (docs/DESIGN.md "Dense depth", rows; test
+  // DenseDepthSim.SkinSceneDepthOnItsRow).
   cv::Ptr<cv::StereoSGBM> sgbm = cv::StereoSGBM::create(
       search.min_disparity, search.num_disparities, s.block_size, s.p1_per_pixel * area, s.p2_per_pixel * area,
       /*disp12MaxDiff=*/-1, /*preFilterCap=*/63, s.uniqueness_ratio, s.speckle_window,
-      static_cast<int>(std::ceil(s.speckle_range * 16.0)), s.full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM);
+      static_cast<int>(std::ceil(s.speckle_range * 16.0)), s.full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_HH4);
   // SGBM leaves the first min_disparity + num_disparities columns unmatched
   // (their search would leave the right image); the replicated border lets
   // it search them, and a true match inside the image still wins.
@@ -62,14 +69,8 @@ cv::Mat DenseDepth::sgbmDisparity(const cv::Mat& left, const cv::Mat& right, con
   cv::copyMakeBorder(left, lp, 0, 0, pad, 0, cv::BORDER_REPLICATE);
   cv::copyMakeBorder(right, rp, 0, 0, pad, 0, cv::BORDER_REPLICATE);
   sgbm->compute(lp, rp, raw);  // CV_16S, 1/16 px
-  // OpenCV's SGBM (4.6, every block size) writes the disparity of row v into
-  // row v + 1: a step of the true disparity between rows v - 1 and v comes
-  // out between v and v + 1 (test DenseDepth.DisparityStepStaysOnItsRow).
-  // At 22 cm and half resolution one row is 0.9 mm, and the fused skin was
-  // displaced by it (docs/SURFACE.md). Rows move up by one; the last row has
-  // no match.
-  cv::Mat d(left.size(), CV_32F, cv::Scalar(search.min_disparity - 1));
-  raw(cv::Rect(pad, 1, left.cols, left.rows - 1)).convertTo(d.rowRange(0, left.rows - 1), CV_32F, 1.0 / 16.0);
+  cv::Mat d;
+  raw(cv::Rect(pad, 0, left.cols, left.rows)).convertTo(d, CV_32F, 1.0 / 16.0);
   return d;
 }
 

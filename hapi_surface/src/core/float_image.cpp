@@ -1,5 +1,7 @@
 #include "hapi_surface/float_image.hpp"
 
+#include "hapi_surface/depth_image_contract.hpp"
+
 #include <cstring>
 
 namespace hapi_surface {
@@ -76,6 +78,13 @@ SurfaceStatus toFloatImage(const RawImageView& image, FloatImage* out) {
   }
   *out = std::move(f);
   return SurfaceStatus::kOk;
+}
+
+SurfaceStatus toConfidenceImage(const RawImageView& image, FloatImage* out) {
+  const SurfaceStatus st = toFloatImage(image, out);
+  if (st != SurfaceStatus::kOk || layoutOf(image.encoding) != Layout::kU8) return st;
+  for (float& c : out->data) c /= static_cast<float>(kConfidenceMono8One);
+  return st;
 }
 
 }  // namespace hapi_surface

@@ -3,6 +3,8 @@
 
 #include "image_input.hpp"
 
+#include "hapi_surface/depth_image_contract.hpp"
+
 #include <boost/make_shared.hpp>
 #include <hapi_dataset/ros/bag_messages.hpp>
 
@@ -74,7 +76,7 @@ InputError DenseDepthProcessor::process(const sensor_msgs::ImageConstPtr& left,
   const std::string why = matcher_.compute(lr, rr, rectifier_->geometry(), &depth);
   if (!why.empty()) return {"core_rejected", why};
   cv::Mat confidence8;
-  depth.confidence.convertTo(confidence8, CV_8U, 255.0);
+  depth.confidence.convertTo(confidence8, CV_8U, kConfidenceMono8One);
   out->depth = imageMsg(depth.depth, header);            // 32FC1
   out->confidence = imageMsg(confidence8, header);       // mono8
   out->camera_info = depthInfo(rectifier_->geometry(), header);

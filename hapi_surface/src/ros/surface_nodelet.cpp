@@ -153,7 +153,7 @@ void SurfaceNodelet::confidenceCallback(const sensor_msgs::ImageConstPtr& msg) {
 FloatImage SurfaceNodelet::confidenceAt(const ros::Time& stamp) {
   FloatImage out;
   for (const auto& c : confidence_)
-    if (c->header.stamp == stamp && toFloatImage(ros_glue::rawView(*c), &out) == SurfaceStatus::kOk) return out;
+    if (c->header.stamp == stamp && toConfidenceImage(ros_glue::rawView(*c), &out) == SurfaceStatus::kOk) return out;
   ++stats_.confidence_missing;
   return FloatImage();
 }
