@@ -177,6 +177,13 @@ TEST(Scenario, SceneOffsetAndLightingForAFollowUpSession) {
   a.renderStereo(2, &la, &ra);
   b.renderStereo(2, &lb, &rb);
   EXPECT_NEAR(cv::mean(lb)[0] / cv::mean(la)[0], 0.6, 0.05);
+  // Another skin: the same arm and light, another texture.
+  ScenarioConfig other_skin = first;
+  other_skin.skin_texture_seed = 7;
+  cv::Mat lo, ro;
+  Scenario(other_skin).renderStereo(2, &lo, &ro);
+  EXPECT_NEAR(cv::mean(lo)[0] / cv::mean(la)[0], 1.0, 0.05);
+  EXPECT_GT(cv::norm(lo, la, cv::NORM_L1) / la.total(), 0.3);  // grey levels per pixel (same skin: 0)
   second.lighting_gain = 0.1;
   EXPECT_NE(second.validate(), "");
   second.lighting_gain = 1.0;

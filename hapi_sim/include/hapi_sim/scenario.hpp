@@ -85,6 +85,9 @@ struct ScenarioConfig {
   Eigen::Vector3d scene_shift = Eigen::Vector3d::Zero();  // m, inertial frame
   double scene_yaw = 0.0;                                 // rad
   double lighting_gain = 1.0;
+  // Another skin (the skin scene's texture drawn from this seed; 0: the
+  // reference skin): an unmapped arm for the false relocalisation check.
+  uint32_t skin_texture_seed = 0;
   // "" when valid, else what is wrong (one rule for every front end).
   std::string validate() const;
 };

@@ -41,7 +41,7 @@ constexpr uint32_t kImagingCamera = 2;     // noise seeds: left 0, right 1, imag
 std::unique_ptr<Scene> makeScene(const ScenarioConfig& c) {
   switch (c.scene) {
     case SceneKind::Globe: return makeGlobeSimScene(c.globe_texture);
-    case SceneKind::Skin: return makeSkinScene();
+    case SceneKind::Skin: return makeSkinScene(c.skin_texture_seed);
     case SceneKind::Patch: return makePatchScene();
     case SceneKind::Chessboard: return makeChessboardScene();
   }

@@ -50,7 +50,8 @@ const char* const kScenarioOptionsUsage =
     "  [--right-shift-px PX (right image shifted down: bad rectification)]\n"
     "  [--camera-clock-offset S (added to camera stamps: clocks that disagree)]\n"
     "  [--scene-offset X,Y,Z,YAW_DEG (the scene placed elsewhere: moved X,Y,Z m, turned about the vertical)]\n"
-    "  [--lighting-gain G (every image's gain times G: another lighting; default 1)]";
+    "  [--lighting-gain G (every image's gain times G: another lighting; default 1)]\n"
+    "  [--skin-texture-seed N (skin: another skin's texture; default 0, the reference skin)]";
 
 bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
   using hapi_dataset::parseFlagArg;
@@ -97,6 +98,8 @@ bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfi
     cfg->camera_clock_offset = parseNumberArg(k, v);
   } else if (k == "--scene-offset") {
     parseSceneOffset(k, v, cfg);
+  } else if (k == "--skin-texture-seed") {
+    cfg->skin_texture_seed = static_cast<uint32_t>(parseIntegerArg(k, v, 0, 1000000));
   } else if (k == "--lighting-gain") {
     cfg->lighting_gain = parseNumberArg(k, v);
   } else if (k == "--texture") {
