@@ -8,7 +8,10 @@
 #include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/map_file/map_landmarks.hpp"
 #include "hapi_eskf/map_file/map_reader.hpp"
+#include "hapi_eskf/map_file/map_session.hpp"
 #include "hapi_eskf/map_file/map_writer.hpp"
+#include "basic_settings.hpp"
+#include "inertial_scenario.hpp"
 #include "sim_scenario.hpp"
 
 #include <gtest/gtest.h>
@@ -172,6 +175,125 @@ TEST(MapRelocalise, LoadRefusedUnlessFreshlyReset) {
   l.covariance = 1e-6 * Mat3::Identity();
   EXPECT_EQ(f.loadMap({l}), Status::kOk);
   EXPECT_EQ(f.loadMap({l}), Status::kInvalidArgument);  // the pool is no longer empty
+}
+
+// The inertial model (IMU at 200 Hz, frames at 10 Hz): session 1 maps while
+// the body moves (inertial_scenario.hpp) and saves its pool with gravity;
+// session 2 runs the same motion with the body turned 0.35 rad about the
+// vertical and moved 10 cm, loads the map before its gravity alignment,
+// and is placed in the map frame by the first frame after it, its tilt
+// agreeing with the IMU's, its gravity the map's. The map is saved in a
+// frame tilted against gravity (a published frame T_out_world), so a
+// session that ignored the map's gravity could not agree with it.
+struct InertialSession {
+  int relocalised_at = -1, held = 0, published_while_awaiting = 0;
+  double max_p_err = 0, max_rot_err = 0, gravity_err = 0;  // after relocalisation [m], [rad], [rad]
+};
+
+InertialSession inertialSession(const sim::World& scene, const Eigen::Isometry3d& move, double duration,
+                                const Eigen::Isometry3d& T_map_world, const map_file::MapData* load,
+                                map_file::MapData* save, std::mt19937& rng) {
+  EskfSettings s = testing_settings::inertialTrajectoryFilter();
+  s.max_landmarks = 600;
+  const CameraExtrinsic e = sim::forwardCamera();
+  const sim::InertialTrajectory traj;
+  const sim::ImuNoiseModel noise;
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), e);
+  EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  if (load) EXPECT_EQ(f.loadMap(map_file::toPriorLandmarks(*load), load->gravity_direction), Status::kOk);
+  // The map frame: session 1's gravity-aligned world, at its first camera
+  // position (the body starts level, so its yaw is the truth's).
+  const Vec3 origin = sim::cameraOf(traj.at(0.0), e).p;
+  InertialSession r;
+  int k_imu = 1;
+  for (int k = 1; k * 0.1 <= duration + 1e-9; ++k) {
+    const double t = k * 0.1;
+    // The IMU reads the same in the turned body: a turn about gravity.
+    for (; k_imu * 0.005 <= t + 1e-9; ++k_imu)
+      EXPECT_EQ(f.addImu(sim::imuSample(traj, noise, k_imu * 0.005, 0.005, rng)), Status::kOk);
+    PoseState cam = sim::cameraOf(traj.at(t), e);
+    cam.p = move * cam.p;
+    cam.q = Eigen::Quaterniond(move.linear()) * cam.q;
+    IterationReport rep;
+    const Status st = f.processFrame(sim::makeFrame(scene, cam, sim::StereoRig(), t, 4, rng), &rep);
+    if (st == Status::kAwaitingImu) continue;
+    EXPECT_EQ(st, Status::kOk) << toString(st) << " at " << t;
+    cam.p = T_map_world * (cam.p - origin);
+    cam.q = Eigen::Quaterniond(T_map_world.linear()) * cam.q;
+    if (rep.relocalising) {
+      ++r.held;
+      continue;
+    }
+    if (load && f.awaitingMap()) ++r.published_while_awaiting;
+    if (rep.relocalised) r.relocalised_at = k;
+    if (load && r.relocalised_at < 0) continue;
+    // Session 1 runs in its own world (T_map_world applies to the saved map only).
+    const PoseState est = f.pose();
+    const Vec3 p = load ? est.p : Vec3(T_map_world * est.p);
+    const Eigen::Quaterniond q = load ? est.q : Eigen::Quaterniond(T_map_world.linear()) * est.q;
+    const Vec3 g = load ? f.state().g : Vec3(T_map_world.linear() * f.state().g);
+    r.max_p_err = std::max(r.max_p_err, (p - cam.p).norm());
+    r.max_rot_err = std::max(r.max_rot_err, q.angularDistance(cam.q));
+    const Vec3 down = T_map_world.linear() * Vec3(0, 0, -1);
+    r.gravity_err = std::acos(std::min(1.0, g.normalized().dot(down)));
+  }
+  int skipped = 0;
+  if (save) EXPECT_FALSE(map_file::mapFromBackend(f, T_map_world, map_file::MapData(), save, &skipped));
+  return r;
+}
+
+TEST(MapRelocalise, InertialModelLoadsTheMapAtItsAlignmentAndRelocalisesConsistentlyWithGravity) {
+  std::mt19937 rng(7);
+  const sim::World scene = sim::randomWorld(rng, 6000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
+  Eigen::Isometry3d T_map_world = Eigen::Isometry3d::Identity();
+  T_map_world.linear() = Eigen::AngleAxisd(0.4, Vec3::UnitX()).toRotationMatrix();
+  T_map_world.translation() = Vec3(0.2, -0.1, 0.05);
+  const Vec3 down = T_map_world.linear() * Vec3(0, 0, -1);
+  map_file::MapData map;
+  const InertialSession s1 =
+      inertialSession(scene, Eigen::Isometry3d::Identity(), 3.0, T_map_world, nullptr, &map, rng);
+  std::printf("inertial session 1: %zu landmarks saved, max error %.2f mm %.3f deg, gravity (%.4f %.4f %.4f)\n",
+              map.landmarks.size(), 1e3 * s1.max_p_err, s1.max_rot_err * 180 / M_PI, map.gravity_direction.x(),
+              map.gravity_direction.y(), map.gravity_direction.z());
+  ASSERT_GT(map.landmarks.size(), 100u);
+  EXPECT_LT(std::acos(map.gravity_direction.dot(down)), 0.02);
+  Eigen::Isometry3d move = Eigen::Isometry3d::Identity();
+  move.linear() = Eigen::AngleAxisd(0.35, Vec3::UnitZ()).toRotationMatrix();
+  move.translation() = Vec3(0.06, -0.08, 0.02);
+  const InertialSession s2 = inertialSession(scene, move, 3.0, T_map_world, &map, nullptr, rng);
+  std::printf("inertial session 2: relocalised at frame %d after %d held; max error after it %.2f mm %.3f deg, "
+              "gravity off the map's down by %.3f deg\n",
+              s2.relocalised_at, s2.held, 1e3 * s2.max_p_err, s2.max_rot_err * 180 / M_PI,
+              s2.gravity_err * 180 / M_PI);
+  EXPECT_GE(s2.relocalised_at, 1);
+  EXPECT_LE(s2.held, 2);
+  EXPECT_EQ(s2.published_while_awaiting, 0);
+  EXPECT_LT(s2.max_p_err, 0.02);
+  EXPECT_LT(s2.max_rot_err, 0.01);
+  EXPECT_LT(s2.gravity_err, 0.02);
+}
+
+TEST(MapRelocalise, InertialLoadNeedsGravityAndAFilterAwaitingItsAlignment) {
+  EskfSettings s = testing_settings::inertialTrajectoryFilter();
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), sim::forwardCamera());
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  PriorLandmark l;
+  l.covariance = 1e-6 * Mat3::Identity();
+  l.descriptor.assign(32, 0);
+  EXPECT_EQ(f.loadMap({l}), Status::kInvalidArgument);  // no gravity direction
+  EXPECT_FALSE(f.awaitingMap());
+  EXPECT_EQ(f.loadMap({l}, Vec3(0, 0, -1)), Status::kOk);
+  EXPECT_TRUE(f.awaitingMap());
+  EXPECT_EQ(f.numLandmarks(), 0);  // kept until the alignment
+  EXPECT_EQ(f.loadMap({l}, Vec3(0, 0, -1)), Status::kInvalidArgument);  // one map per reset
+  std::mt19937 rng(3);
+  const sim::InertialTrajectory still;
+  for (int k = 1; f.awaitingAlignment(); ++k)
+    ASSERT_EQ(f.addImu(sim::imuSample(still, sim::ImuNoiseModel(), 0.005 * k, 0.005, rng)), Status::kOk);
+  EXPECT_EQ(f.numLandmarks(), 1);
+  EXPECT_TRUE(f.awaitingMap());
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  EXPECT_FALSE(f.awaitingMap());  // a reset drops a map not applied yet
 }
 
 }  // namespace

@@ -36,14 +36,17 @@ bool names(const map_file::MapError& e, const std::string& what) {
   return e.fault == map_file::MapFault::kBadValue && e.message.find(what) != std::string::npos;
 }
 
-TEST(MapSession, LoadableOnlyWithTheEskfWithoutGravityAlignmentWithRansacAndRoom) {
+TEST(MapSession, LoadableOnlyWithTheEskfWithRansacRoomAndGravityForTheInertialModel) {
   const EskfSettings ok = smallPool();
   const int room = ok.max_landmarks - ok.max_new_landmarks;
   EXPECT_FALSE(map_file::checkLoadable(mapOf(room), ok));
   EXPECT_TRUE(names(map_file::checkLoadable(mapOf(room + 1), ok), "max_landmarks - max_new_landmarks"));
   EskfSettings s = ok;
   s.motion_model = MotionModelKind::kInertial;
-  EXPECT_TRUE(names(map_file::checkLoadable(mapOf(1), s), "motion_model inertial"));
+  EXPECT_TRUE(names(map_file::checkLoadable(mapOf(1), s), "motion_model inertial needs the map's gravity"));
+  map_file::MapData with_gravity = mapOf(1);
+  with_gravity.gravity_direction = Vec3(0.0, 0.0, -1.0);
+  EXPECT_FALSE(map_file::checkLoadable(with_gravity, s));
   s = ok;
   s.motion_model = MotionModelKind::kGyro;
   EXPECT_FALSE(map_file::checkLoadable(mapOf(1), s));

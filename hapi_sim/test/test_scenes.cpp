@@ -144,6 +144,53 @@ TEST(Scene, EveryTrajectoryKeepsTheSceneInView) {
   }
 }
 
+// A follow-up session: the arm moved 10 cm along itself and turned 20 deg
+// about the vertical through its view centre, the hand's path following it.
+// The camera's truth in the scene frame is the first session's, in the
+// inertial frame the placement's, the IMU reads the same specific force
+// (a turn about gravity), and the images are darker by the lighting gain.
+TEST(Scenario, SceneOffsetAndLightingForAFollowUpSession) {
+  ScenarioConfig first = quickConfig(TrajectoryKind::Handheld, 2), second = first;
+  first.photometric = second.photometric = false;
+  second.scene_shift = Eigen::Vector3d(0.1, 0.0, 0.0);
+  second.scene_yaw = 20.0 * M_PI / 180.0;
+  second.lighting_gain = 0.6;
+  ASSERT_EQ(second.validate(), "");
+  const Scenario a(first), b(second);
+  const Eigen::Vector3d centre = b.scene().view().centre;
+  const Pose placed = b.sceneInInertial(0.3).pose();
+  EXPECT_LT((placed.p + placed.q * centre - centre - second.scene_shift).norm(), 1e-12);
+  EXPECT_NEAR(placed.q.angularDistance(Eigen::Quaterniond::Identity()), second.scene_yaw, 1e-12);
+  const Eigen::Vector3d g(0, 0, -9.81);
+  for (double t = 0; t < 1.0; t += 0.1) {
+    const Pose in_a = a.leftCameraInScene(t).pose(), in_b = b.leftCameraInScene(t).pose();
+    EXPECT_LT((in_b.p - in_a.p).norm(), 1e-12);
+    EXPECT_LT(in_b.q.angularDistance(in_a.q), 1e-12);
+    const Pose expected = composePoses(placed, a.leftCameraInInertial(t).pose());
+    EXPECT_LT((b.leftCameraInInertial(t).p - expected.p).norm(), 1e-12);
+    const MotionSample ia = a.imuInInertial(t), ib = b.imuInInertial(t);
+    EXPECT_LT((ia.q.conjugate() * (ia.a - g) - ib.q.conjugate() * (ib.a - g)).norm(), 1e-9);
+    EXPECT_LT((ia.omega - ib.omega).norm(), 1e-12);
+  }
+  EXPECT_NEAR(b.gain(0.5) / a.gain(0.5), 0.6, 1e-12);
+  cv::Mat la, ra, lb, rb;
+  a.renderStereo(2, &la, &ra);
+  b.renderStereo(2, &lb, &rb);
+  EXPECT_NEAR(cv::mean(lb)[0] / cv::mean(la)[0], 0.6, 0.05);
+  // Another skin: the same arm and light, another texture.
+  ScenarioConfig other_skin = first;
+  other_skin.skin_texture_seed = 7;
+  cv::Mat lo, ro;
+  Scenario(other_skin).renderStereo(2, &lo, &ro);
+  EXPECT_NEAR(cv::mean(lo)[0] / cv::mean(la)[0], 1.0, 0.05);
+  EXPECT_GT(cv::norm(lo, la, cv::NORM_L1) / la.total(), 0.3);  // grey levels per pixel (same skin: 0)
+  second.lighting_gain = 0.1;
+  EXPECT_NE(second.validate(), "");
+  second.lighting_gain = 1.0;
+  second.scene_shift = Eigen::Vector3d(2.0, 0, 0);
+  EXPECT_NE(second.validate(), "");
+}
+
 TEST(ImageFormation, SameSeedSameImagesOtherSeedDiffers) {
   const Scenario a(quickConfig(TrajectoryKind::Handheld, 4)), b(quickConfig(TrajectoryKind::Handheld, 4)),
       c(quickConfig(TrajectoryKind::Handheld, 5));

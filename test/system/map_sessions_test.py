@@ -2,7 +2,7 @@
 """Two sessions of the whole system (launch/replay.launch) on the same
 simulated scene (docs/DESIGN.md "Map file"):
 
-  map_sessions_test.py SESSION1_BAG SESSION2_BAG [OTHER_BAG]
+  map_sessions_test.py [--motion-model M] [--frontend-config YAML] SESSION1_BAG SESSION2_BAG [OTHER_BAG]
 
 Session 1 replays SESSION1_BAG and saves its map through /eskf/save_map.
 Session 2 starts with ~map_file set to that map on SESSION2_BAG, whose
@@ -17,9 +17,14 @@ hint. It passes when
     its first odometry), and covers most of the rest of the bag;
   * with OTHER_BAG (the same scene with another texture), a third session
     with session 1's map never relocalises and publishes no odometry.
-Both sessions run the constant-velocity model (the inertial model does not
-load maps). Exit 0 pass, 1 fail.
+Every session runs --motion-model (constant_velocity by default; inertial:
+the bags' IMU levels each session's world and the map fit must agree with
+its tilt). The truths are the camera in the scene frame, so a second
+session on the scene placed elsewhere (make_sim_bag --scene-offset) and
+under other lighting (--lighting-gain) compares in the same frame. Exit 0
+pass, 1 fail.
 """
+import argparse
 import bisect
 import os
 import re
@@ -111,12 +116,14 @@ class Watch:
         return self.clock_wall is not None and time.time() - self.clock_wall > quiet_s
 
 
-def run_session(watch, bag, map_file, timeout_s=120.0):
+def run_session(watch, bag, map_file, options, timeout_s=120.0):
     """Replays `bag`; returns the roslaunch process once the bag is over."""
     watch.clear()
     args = ["roslaunch", "hapi_slam", "replay.launch", "bag:=" + bag, "dense_depth:=false", "surface:=false",
-            "surface_motion:=false", "ground_truth:=false", "output:=log", "motion_model:=constant_velocity",
+            "surface_motion:=false", "ground_truth:=false", "output:=log", "motion_model:=" + options.motion_model,
             "delay:=3.0", "map_file:=" + map_file]
+    if options.frontend_config:
+        args.append("frontend_config:=" + options.frontend_config)
     proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
     end = time.time() + timeout_s
     while time.time() < end and not watch.bag_over():
@@ -184,8 +191,15 @@ def check_other_scene(watch):
 
 
 def main():
-    bag1, bag2 = sys.argv[1:3]
-    other_bag = sys.argv[3] if len(sys.argv) > 3 else ""
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--motion-model", default="constant_velocity", choices=("constant_velocity", "gyro", "inertial"))
+    ap.add_argument("--frontend-config", default="", help="the front end's YAML (skin: config/frontend_skin.yaml)")
+    ap.add_argument("bags", nargs="+", help="SESSION1_BAG SESSION2_BAG [OTHER_BAG]")
+    a = ap.parse_args()
+    if len(a.bags) not in (2, 3):
+        ap.error("two or three bags")
+    bag1, bag2 = a.bags[:2]
+    other_bag = a.bags[2] if len(a.bags) > 2 else ""
     truth1, truth2 = read_truth(bag1), read_truth(bag2)
     start_offset = np.linalg.inv(truth1[1][0]) @ truth2[1][0]
     print("session 2 starts %.1f mm and %.1f deg from session 1's start"
@@ -201,7 +215,7 @@ def main():
         time.sleep(3.0)
         rospy.init_node("map_sessions_test", disable_signals=True)
         watch = Watch()
-        proc = run_session(watch, bag1, "")
+        proc = run_session(watch, bag1, "", a)
         try:
             rospy.wait_for_service("/eskf/save_map", 10.0)
             res = rospy.ServiceProxy("/eskf/save_map", Trigger)()
@@ -215,13 +229,14 @@ def main():
         if not watch.odom:
             print("FAIL: session 1 published no odometry")
             return 1
-        # Session 1's map frame = its first camera pose: T_map_world from its first odometry.
+        # Session 1's map frame (its first camera pose; inertial: levelled at
+        # its first camera position): T_map_world from its first odometry.
         t1, T_map_cam1 = watch.odom[0]
         T_map_world = T_map_cam1 @ np.linalg.inv(truth_at(truth1, t1))
-        stop(run_session(watch, bag2, map_path))
+        stop(run_session(watch, bag2, map_path, a))
         failures = check_session2(watch, truth1, truth2, T_map_world, frame_count(bag2))
         if other_bag:
-            stop(run_session(watch, other_bag, map_path))
+            stop(run_session(watch, other_bag, map_path, a))
             failures += check_other_scene(watch)
     finally:
         if map_path:

@@ -86,6 +86,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   velocity_measured_ = false;  // the initial velocity is a guess
   awaiting_alignment_ = model_->kind() == MotionModelKind::kInertial;
   alignment_samples_.clear();
+  pending_map_.clear();
   imu_noise_.clear();
   scene_motion_.reset();
   initialised_ = true;
@@ -231,7 +232,11 @@ Status Eskf::align() {
   alignment_samples_.clear();
   awaiting_alignment_ = false;
   velocity_measured_ = start.still;  // zero, measured by the still window
-  return Status::kOk;
+  if (pending_map_.empty()) return Status::kOk;
+  std::vector<PriorLandmark> map;
+  map.swap(pending_map_);
+  turnWorldTo(pending_gravity_);
+  return applyMap(map, start.C);
 }
 
 void Eskf::refreshImuNoise() {
@@ -261,36 +266,83 @@ std::vector<uint8_t> Eskf::landmarkDescriptors() const {
   return backend_ ? backend_->descriptors() : std::vector<uint8_t>();
 }
 
-Status Eskf::loadMap(const std::vector<PriorLandmark>& map) {
+Status Eskf::loadMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction) {
   if (!backend_) return Status::kBackendUnavailable;
   if (!initialised_) return Status::kNotInitialised;
-  if (awaiting_alignment_ || model_->kind() == MotionModelKind::kInertial) return Status::kAwaitingImu;
-  if (numLandmarks() != 0 || settings_.ransac_iterations == 0) return Status::kInvalidArgument;
+  const Status st = checkMap(map, gravity_direction);
+  if (st != Status::kOk) return st;
+  if (model_->kind() != MotionModelKind::kInertial) return applyMap(map, model_->initialCovariance());
+  pending_map_ = map;  // align() applies it
+  pending_gravity_ = gravity_direction.normalized();
+  return Status::kOk;
+}
+
+Status Eskf::checkMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction) const {
+  if (numLandmarks() != 0 || !pending_map_.empty() || settings_.ransac_iterations == 0)
+    return Status::kInvalidArgument;
+  if (model_->kind() == MotionModelKind::kInertial &&
+      (!awaiting_alignment_ || !gravity_direction.allFinite() || std::abs(gravity_direction.norm() - 1.0) > 1e-3))
+    return Status::kInvalidArgument;
   if (static_cast<int>(map.size()) > settings_.max_landmarks - settings_.max_new_landmarks)
     return Status::kCapacityExceeded;
-  const int length = backend_->descriptorLength();
+  for (const PriorLandmark& l : map) {
+    if (static_cast<int>(l.descriptor.size()) != backend_->descriptorLength() || l.times_observed < 1)
+      return Status::kInvalidArgument;
+    if (!l.position.allFinite() || !l.covariance.allFinite()) return Status::kNonFinite;
+    if (!isSymmetricPositiveDefinite(l.covariance)) return Status::kNotPositiveDefinite;
+  }
+  return Status::kOk;
+}
+
+Status Eskf::applyMap(const std::vector<PriorLandmark>& map, const PoseMat& C_start) {
   std::vector<NewLandmarkBlock> blocks(map.size());
   for (std::size_t i = 0; i < map.size(); ++i) {
-    if (static_cast<int>(map[i].descriptor.size()) != length || map[i].times_observed < 1)
-      return Status::kInvalidArgument;
     // m = position, dm = dz with C_z the saved marginal: no pose columns.
     blocks[i].G_pose.setZero();
     blocks[i].G_z.setIdentity();
     blocks[i].Cz = map[i].covariance;
     blocks[i].descriptor = map[i].descriptor.data();
   }
-  PoseMat C0 = model_->initialCovariance();
+  PoseMat C0 = C_start;
   C0.diagonal().segment<3>(kIdxP).array() += kLoadedMapPoseSigmaP * kLoadedMapPoseSigmaP;
   C0.diagonal().segment<3>(kIdxTheta).array() += kLoadedMapPoseSigmaTheta * kLoadedMapPoseSigmaTheta;
   Status st = backend_->reset(frame_error_.covariance(C0));
   if (st == Status::kOk) st = backend_->addLandmarks(blocks);
   if (st != Status::kOk) {
-    backend_->reset(frame_error_.covariance(model_->initialCovariance()));
+    backend_->reset(frame_error_.covariance(C_start));
     return st;
   }
   for (const PriorLandmark& l : map) book_.addPrior(l.position, l.times_observed, time_);
   relocaliser_.awaitMap();
   return Status::kOk;
+}
+
+// The alignment's world is z up at the first camera position with an
+// arbitrary yaw; the map's is the saved one. Turning the first onto the
+// second's gravity (smallest rotation) leaves only a yaw and a position
+// unknown, which the map fit supplies. The alignment's covariance is
+// isotropic in the world axes (inertial_alignment.cpp), so it is unchanged
+// by the turn.
+void Eskf::turnWorldTo(const Vec3& gravity_direction) {
+  const Eigen::Quaterniond R = Eigen::Quaterniond::FromTwoVectors(state_.g.normalized(), gravity_direction);
+  const PoseState camera = model_->camera(state_);
+  state_.g = R * state_.g;
+  state_.v = R * state_.v;
+  model_->moveCameraTo(&state_, R * camera.p, (R * camera.q).normalized());
+  restartFirstEstimates();
+}
+
+// The angle between the world's down in the fit's camera frame and in the
+// predicted one's: yaw and position are free, the tilt is the IMU's.
+bool Eskf::tiltAgrees(const Mat3& R_fit) const {
+  const double g = state_.g.norm();
+  if (!(g > 0)) return true;
+  const Vec3 down = state_.g / g;
+  const Vec3 seen = R_fit.transpose() * down;
+  const Vec3 predicted = pose().q.conjugate() * down;
+  const double angle = std::atan2(seen.cross(predicted).norm(), seen.dot(predicted));
+  const double sigma_g = std::sqrt(poseCovariance().block<3, 3>(kIdxG, kIdxG).diagonal().maxCoeff());
+  return angle <= std::max(kMapRelocaliseMaxTilt, 3.0 * sigma_g / g);
 }
 
 bool Eskf::poseBlockState(PoseBlockState* out) const {
@@ -423,7 +475,9 @@ Status Eskf::associateAtPose(FrameWork& w) const {
 Status Eskf::associateFrame(FrameWork& w) {
   const auto t0 = Clock::now();
   Status st = associateAtPose(w);
-  const bool have_fit = st == Status::kOk && w.assoc.fit_inliers >= relocaliser_.minInliers();
+  const bool have_fit = st == Status::kOk && w.assoc.fit_inliers >= relocaliser_.minInliers() &&
+                        (!relocaliser_.awaitingMap() || model_->kind() != MotionModelKind::kInertial ||
+                         tiltAgrees(w.assoc.fit_R));
   bool vision_leads = false;
   if (have_fit && model_->usesImu() && !relocaliser_.pending()) {
     const Status prior = checkSceneMotion(w, &vision_leads);
@@ -465,6 +519,9 @@ Status Eskf::moveToMapFit(FrameWork& w, bool vision_leads) {
   const double stamp = w.frame->stamp;
   if (vision_leads && !relocaliser_.pending() && stamp > w.previous_stamp)
     model_->correctVelocity(&state_, w.assoc.fit_t - pose().p, stamp - w.previous_stamp, w.rep.scene_moving);
+  // Placed in a loaded map, the world frame itself changed: the velocity
+  // (the IMU's, in the turned alignment frame) turns with the camera.
+  if (relocaliser_.awaitingMap()) state_.v = w.assoc.fit_R * pose().q.conjugate().toRotationMatrix() * state_.v;
   model_->moveCameraTo(&state_, w.assoc.fit_t, Eigen::Quaterniond(w.assoc.fit_R).normalized());
   restartFirstEstimates();
   w.rep.relocalised = relocaliser_.fitApplied();

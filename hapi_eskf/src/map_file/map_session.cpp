@@ -13,10 +13,9 @@ MapError checkLoadable(const MapData& map, const EskfSettings& settings) {
   if (settings.backend_algorithm != BackendAlgorithm::kEskf)
     return mapError(MapFault::kBadValue, std::string("backend_algorithm ") + toString(settings.backend_algorithm) +
                                              " cannot load a map (eskf only)");
-  if (settings.motion_model == MotionModelKind::kInertial)
+  if (settings.motion_model == MotionModelKind::kInertial && map.gravity_direction.norm() == 0.0)
     return mapError(MapFault::kBadValue,
-                    "motion_model inertial cannot load a map (its gravity alignment empties the pool; use "
-                    "constant_velocity or gyro)");
+                    "motion_model inertial needs the map's gravity direction (this map was saved without an IMU)");
   if (settings.ransac_iterations == 0)
     return mapError(MapFault::kBadValue, "ransac_iterations 0: no fit could place the camera in the map");
   const long room = static_cast<long>(settings.max_landmarks) - settings.max_new_landmarks;
@@ -51,7 +50,7 @@ MapError mapFromBackend(const SlamBackend& backend, const Eigen::Isometry3d& T_o
 MapError loadIntoBackend(const MapData& map, SlamBackend* backend) {
   auto* eskf = dynamic_cast<Eskf*>(backend);
   if (!eskf) return mapError(MapFault::kBadValue, std::string("back end ") + backend->name() + " loads no map");
-  const Status st = eskf->loadMap(toPriorLandmarks(map));
+  const Status st = eskf->loadMap(toPriorLandmarks(map), map.gravity_direction);
   if (st != Status::kOk) return mapError(MapFault::kBadValue, std::string("the filter refused the map: ") + toString(st));
   return {};
 }

@@ -54,6 +54,11 @@ MotionSample attachedFrame(const MotionSample& A, const Pose& T_AB);
 // Accelerations are not filled (left zero): no consumer needs them.
 MotionSample relativeMotion(const MotionSample& S, const MotionSample& C);
 
+// Motion S of a frame that is itself placed at the fixed pose T in the
+// reference: the same motion seen from the reference (velocities and
+// accelerations turned, body rates unchanged).
+MotionSample placedMotion(const Pose& T, const MotionSample& S);
+
 Pose inversePose(const Pose& P);
 Pose composePoses(const Pose& A, const Pose& B);  // A * B
 

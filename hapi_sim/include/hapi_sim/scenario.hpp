@@ -74,6 +74,20 @@ struct ScenarioConfig {
   // true time).
   double right_shift_px = 0.0;
   double camera_clock_offset = 0.0;  // s
+  // A follow-up session (docs/DESIGN.md "Map file"): the scene placed
+  // elsewhere in the inertial frame, turned by scene_yaw about the vertical
+  // through its view centre and moved by scene_shift, the hand's path
+  // following it (the trajectories are laid out around the scene's view;
+  // another seed or trajectory gives another path over it); and another
+  // lighting, every image's gain times lighting_gain. The truth in the scene
+  // frame (/ground_truth/odometry) is then comparable between sessions; the
+  // inertial truths differ by the placement.
+  Eigen::Vector3d scene_shift = Eigen::Vector3d::Zero();  // m, inertial frame
+  double scene_yaw = 0.0;                                 // rad
+  double lighting_gain = 1.0;
+  // Another skin (the skin scene's texture drawn from this seed; 0: the
+  // reference skin): an unmapped arm for the false relocalisation check.
+  uint32_t skin_texture_seed = 0;
   // "" when valid, else what is wrong (one rule for every front end).
   std::string validate() const;
 };
@@ -125,7 +139,7 @@ class Scenario {
   MotionSample sceneInInertial(double t) const;
   // The surface motion at the imaging pixel at true time t.
   SurfaceMotionTruth surfaceMotion(double t) const;
-  double gain(double t) const { return exposure_.gain(t); }
+  double gain(double t) const { return cfg_.lighting_gain * exposure_.gain(t); }
 
   // Frame k's images (mono8), deterministic per (seed, k).
   void renderStereo(int64_t k, cv::Mat* left, cv::Mat* right) const;
@@ -162,6 +176,7 @@ class Scenario {
   std::unique_ptr<PerfusionRenderer> perfusion_;  // with ImagingContent::Perfusion only
   int64_t frame_ns_ = 0, imu_ns_ = 0, n_frames_ = 0, n_imu_ = 0, imaging_ns_ = 0, n_imaging_ = 0;
   int64_t clock_offset_ns_ = 0;  // ScenarioConfig::camera_clock_offset
+  Pose scene_placement_;          // ScenarioConfig::scene_shift, scene_yaw
 
   // The left camera's sub-frame poses in the scene over the exposure around t.
   std::vector<Pose> exposurePoses(double t) const;

@@ -69,7 +69,8 @@ class Scene {
 std::unique_ptr<Scene> makeGlobeSimScene(const std::string& texture_path);
 // A forearm (cylinder r 4.5 cm, 25 cm long, axis x, resting on the table) on
 // a wooden table (the plane z = 0, a disc of 0.6 m radius).
-std::unique_ptr<Scene> makeSkinScene();
+// texture_seed 0: the reference skin; another: another skin of the same kind.
+std::unique_ptr<Scene> makeSkinScene(uint32_t texture_seed = 0);
 
 // A flat skin patch (the study's stage target): the plane z = 0, a disc of
 // kPatchHalfExtent about (-kPatchOffset, 0, 0), skin-textured, framed from
@@ -85,7 +86,7 @@ constexpr double kChessboardSquare = 0.03;  // m
 std::unique_ptr<Scene> makeChessboardScene();
 
 // Procedural textures (one deterministic field each; texel size in metres).
-cv::Mat makeSkinTexture(int width, int height, double texel);
+cv::Mat makeSkinTexture(int width, int height, double texel, uint32_t seed = 0);
 cv::Mat makeWoodTexture(int width, int height, double texel);
 
 }  // namespace hapi_sim

@@ -68,6 +68,16 @@ MotionSample attachedFrame(const MotionSample& A, const Pose& T_AB) {
   return B;
 }
 
+MotionSample placedMotion(const Pose& T, const MotionSample& S) {
+  MotionSample r = S;
+  const Eigen::Matrix3d R = T.q.toRotationMatrix();
+  r.q = (T.q * S.q).normalized();
+  r.p = T.p + R * S.p;
+  r.v = R * S.v;
+  r.a = R * S.a;
+  return r;
+}
+
 MotionSample relativeMotion(const MotionSample& S, const MotionSample& C) {
   // R_SC = R_S^T R_C, p_SC = R_S^T (p_C - p_S);
   // v_SC = R_S^T (v_C - v_S) - w_S x p_SC; w_SC = w_C - R_SC^T w_S (docs/DESIGN.md "Data").

@@ -61,7 +61,8 @@ void stamp(cv::Mat* tex, double cu, double cv_, double radius, double depth) {
 
 }  // namespace
 
-cv::Mat makeSkinTexture(int width, int height, double texel) {
+cv::Mat makeSkinTexture(int width, int height, double texel, uint32_t seed) {
+  const uint32_t o = 1000u * seed;  // 0: the reference skin
   cv::Mat tex(height, width, CV_32FC1);
   const double mm = 1e-3;
   for (int v = 0; v < height; ++v) {
@@ -70,13 +71,13 @@ cv::Mat makeSkinTexture(int width, int height, double texel) {
     for (int u = 0; u < width; ++u) {
       const double x = u * texel;  // around the arm
       double g = 148.0;
-      g += 7.0 * fbm(x / (14 * mm), y / (14 * mm), 4, 11u);   // mottling
-      g += 2.5 * fbm(x / (1.2 * mm), y / (1.2 * mm), 2, 23u);  // fine grain
+      g += 7.0 * fbm(x / (14 * mm), y / (14 * mm), 4, o + 11u);   // mottling
+      g += 2.5 * fbm(x / (1.2 * mm), y / (1.2 * mm), 2, o + 23u);  // fine grain
       // Skin lines: two crossing families of shallow furrows, 1.3 mm apart,
       // their depth modulated so the pattern is irregular.
-      const double l1 = std::cos(2 * M_PI * (0.87 * x + 0.50 * y) / (1.3 * mm) + 3.0 * valueNoise(x / (4 * mm), y / (4 * mm), 31u));
-      const double l2 = std::cos(2 * M_PI * (-0.50 * x + 0.87 * y) / (1.3 * mm) + 3.0 * valueNoise(x / (4 * mm), y / (4 * mm), 37u));
-      const double depth = 2.0 + 1.5 * valueNoise(x / (6 * mm), y / (6 * mm), 41u);
+      const double l1 = std::cos(2 * M_PI * (0.87 * x + 0.50 * y) / (1.3 * mm) + 3.0 * valueNoise(x / (4 * mm), y / (4 * mm), o + 31u));
+      const double l2 = std::cos(2 * M_PI * (-0.50 * x + 0.87 * y) / (1.3 * mm) + 3.0 * valueNoise(x / (4 * mm), y / (4 * mm), o + 37u));
+      const double depth = 2.0 + 1.5 * valueNoise(x / (6 * mm), y / (6 * mm), o + 41u);
       g -= depth * (std::pow(std::max(0.0, l1), 6) + std::pow(std::max(0.0, l2), 6));
       row[u] = static_cast<float>(g);
     }
@@ -96,7 +97,7 @@ cv::Mat makeSkinTexture(int width, int height, double texel) {
   }
   // Pores (about 15 per cm^2, 0.10-0.22 mm) and freckles (about 0.8 per cm^2,
   // 0.5-1.6 mm, 18-42 grey levels darker): the corners a detector can hold on to.
-  GaussianRng rng(0x5C1Du);
+  GaussianRng rng(0x5C1Du + seed);
   const double area_cm2 = width * height * texel * texel * 1e4;
   for (int i = 0, n = static_cast<int>(15 * area_cm2); i < n; ++i) {
     const double cu = rng.uniform01() * width, cvv = rng.uniform01() * height;

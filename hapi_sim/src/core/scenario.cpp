@@ -41,7 +41,7 @@ constexpr uint32_t kImagingCamera = 2;     // noise seeds: left 0, right 1, imag
 std::unique_ptr<Scene> makeScene(const ScenarioConfig& c) {
   switch (c.scene) {
     case SceneKind::Globe: return makeGlobeSimScene(c.globe_texture);
-    case SceneKind::Skin: return makeSkinScene();
+    case SceneKind::Skin: return makeSkinScene(c.skin_texture_seed);
     case SceneKind::Patch: return makePatchScene();
     case SceneKind::Chessboard: return makeChessboardScene();
   }
@@ -86,6 +86,9 @@ std::string ScenarioConfig::validate() const {
   if (!(stage_speed >= 0 && stage_speed <= 0.1)) return "stage speed must be in [0, 100] mm/s";
   if (!(std::abs(right_shift_px) <= 20)) return "right image shift must be in [-20, 20] px";
   if (!(std::abs(camera_clock_offset) <= 100)) return "camera clock offset must be in [-100, 100] s";
+  if (!(scene_shift.allFinite() && scene_shift.norm() <= 1.0)) return "scene shift must be at most 1 m";
+  if (!(std::abs(scene_yaw) <= M_PI)) return "scene yaw must be in [-180, 180] deg";
+  if (!(lighting_gain >= 0.2 && lighting_gain <= 5.0)) return "lighting gain must be in [0.2, 5]";
   return "";
 }
 
@@ -163,6 +166,10 @@ Scenario::Scenario(const ScenarioConfig& config)
     perfusion_ = std::make_unique<PerfusionRenderer>(*scene_, rig_.left, perfusion_pattern_);
   frame_ns_ = std::llround(1e9 / cfg_.rate);
   clock_offset_ns_ = std::llround(1e9 * cfg_.camera_clock_offset);
+  // p -> c + R (p - c) + shift: the turn about the view centre c.
+  const Eigen::Vector3d c = scene_->view().centre;
+  scene_placement_.q = Eigen::Quaterniond(Eigen::AngleAxisd(cfg_.scene_yaw, Eigen::Vector3d::UnitZ()));
+  scene_placement_.p = c - scene_placement_.q * c + cfg_.scene_shift;
   imu_ns_ = std::llround(1e9 / cfg_.imu_rate);
   n_frames_ = countAt(cfg_.duration, cfg_.rate);
   n_imu_ = static_cast<int64_t>(std::floor(cfg_.duration * cfg_.imu_rate + 1e-9));
@@ -174,8 +181,12 @@ Scenario::Scenario(const ScenarioConfig& config)
 
 Scenario::~Scenario() = default;
 
-MotionSample Scenario::leftCameraInInertial(double t) const { return device_->sample(t); }
-MotionSample Scenario::sceneInInertial(double t) const { return scene_motion_->sample(t); }
+MotionSample Scenario::leftCameraInInertial(double t) const {
+  return placedMotion(scene_placement_, device_->sample(t));
+}
+MotionSample Scenario::sceneInInertial(double t) const {
+  return placedMotion(scene_placement_, scene_motion_->sample(t));
+}
 MotionSample Scenario::leftCameraInScene(double t) const {
   return relativeMotion(sceneInInertial(t), leftCameraInInertial(t));
 }

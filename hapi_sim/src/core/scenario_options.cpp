@@ -1,6 +1,7 @@
 // The scenario's command-line options (scenario_options.hpp).
 #include "hapi_sim/scenario_options.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 
@@ -21,6 +22,21 @@ Eigen::Vector2d parsePixelArg(const std::string& k, const std::string& v) {
   return px;
 }
 
+// "X,Y,Z,YAW_DEG": the scene's placement (ScenarioConfig::scene_shift, scene_yaw).
+void parseSceneOffset(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
+  double x[4];
+  size_t start = 0;
+  for (int i = 0; i < 4; ++i) {
+    const size_t comma = i < 3 ? v.find(',', start) : v.size();
+    if (comma == std::string::npos) throw std::invalid_argument(k + " must be X,Y,Z,YAW_DEG, got '" + v + "'");
+    x[i] = hapi_dataset::parseNumberArg(k, v.substr(start, comma - start));
+    start = comma + 1;
+  }
+  if (start <= v.size()) throw std::invalid_argument(k + " must be X,Y,Z,YAW_DEG, got '" + v + "'");
+  cfg->scene_shift = Eigen::Vector3d(x[0], x[1], x[2]);
+  cfg->scene_yaw = x[3] * M_PI / 180.0;
+}
+
 }  // namespace
 
 const char* const kScenarioOptionsUsage =
@@ -32,7 +48,10 @@ const char* const kScenarioOptionsUsage =
     "  [--imaging-content texture|perfusion (default texture)]\n"
     "  [--stage-speed MM_S (stage; default 5)]\n"
     "  [--right-shift-px PX (right image shifted down: bad rectification)]\n"
-    "  [--camera-clock-offset S (added to camera stamps: clocks that disagree)]";
+    "  [--camera-clock-offset S (added to camera stamps: clocks that disagree)]\n"
+    "  [--scene-offset X,Y,Z,YAW_DEG (the scene placed elsewhere: moved X,Y,Z m, turned about the vertical)]\n"
+    "  [--lighting-gain G (every image's gain times G: another lighting; default 1)]\n"
+    "  [--skin-texture-seed N (skin: another skin's texture; default 0, the reference skin)]";
 
 bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfig* cfg) {
   using hapi_dataset::parseFlagArg;
@@ -77,6 +96,12 @@ bool setScenarioOption(const std::string& k, const std::string& v, ScenarioConfi
     cfg->right_shift_px = parseNumberArg(k, v);
   } else if (k == "--camera-clock-offset") {
     cfg->camera_clock_offset = parseNumberArg(k, v);
+  } else if (k == "--scene-offset") {
+    parseSceneOffset(k, v, cfg);
+  } else if (k == "--skin-texture-seed") {
+    cfg->skin_texture_seed = static_cast<uint32_t>(parseIntegerArg(k, v, 0, 1000000));
+  } else if (k == "--lighting-gain") {
+    cfg->lighting_gain = parseNumberArg(k, v);
   } else if (k == "--texture") {
     cfg->globe_texture = v;
   } else {

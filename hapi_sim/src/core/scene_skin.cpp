@@ -16,7 +16,7 @@ constexpr double kSkinTexel = 0.2e-3, kWoodTexel = 0.6e-3;
 
 class SkinScene : public Scene {
  public:
-  SkinScene() {
+  explicit SkinScene(uint32_t texture_seed) {
     SurfaceSpec arm;
     arm.type = SurfaceSpec::Cylinder;
     arm.centre = Eigen::Vector3d(0, 0, kArmRadius);
@@ -30,7 +30,8 @@ class SkinScene : public Scene {
     table.half_extent = kTableHalfExtent;
     surfaces_ = {arm, table};
     skin_.texels = makeSkinTexture(static_cast<int>(std::lround(2 * M_PI * kArmRadius / kSkinTexel)),
-                                   static_cast<int>(std::lround(2 * kArmHalfLength / kSkinTexel)), kSkinTexel);
+                                   static_cast<int>(std::lround(2 * kArmHalfLength / kSkinTexel)), kSkinTexel,
+                                   texture_seed);
     skin_.wrap_u = true;
     const int n = static_cast<int>(std::lround(2 * kTableHalfExtent / kWoodTexel));
     wood_.texels = makeWoodTexture(n, n, kWoodTexel);
@@ -80,6 +81,6 @@ class SkinScene : public Scene {
 
 }  // namespace
 
-std::unique_ptr<Scene> makeSkinScene() { return std::make_unique<SkinScene>(); }
+std::unique_ptr<Scene> makeSkinScene(uint32_t texture_seed) { return std::make_unique<SkinScene>(texture_seed); }
 
 }  // namespace hapi_sim

@@ -22,6 +22,11 @@ constexpr double kRelocaliseWaitS = 2.0;
 // pose hint, the whole map is searched, so a chance fit of wrong matches on
 // unmapped skin must be ruled out with a wider margin than after an outage.
 constexpr int kMapRelocaliseMinInliers = 12;
+// With gravity known (the inertial model), a map fit whose camera tilt
+// disagrees with the IMU's by more than this (or 3 sigma of the filter's
+// gravity, whichever is larger) is no relocalisation: wrong matches fit any
+// tilt, the IMU levels the camera to well within a degree at rest.
+constexpr double kMapRelocaliseMaxTilt = 0.1;  // [rad]
 
 struct AssociationSettings {
 #define HAPI_FIELD(type, name, default_value, range, unit, doc) type name = default_value;

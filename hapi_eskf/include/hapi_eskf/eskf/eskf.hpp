@@ -116,22 +116,27 @@ class Eskf final : public SlamBackend {
   // The pool's descriptors, landmarks() order (numLandmarks() * length bytes).
   std::vector<uint8_t> landmarkDescriptors() const;
 
-  // Puts a saved map into the pool right after reset() (empty pool; not the
-  // inertial model, whose gravity alignment resets the pool): each landmark
-  // with its covariance and no correlation with the pose, the world frame
-  // becoming the map's. The camera's place in it is unknown: the pose
+  // Puts a saved map into the pool right after reset() (empty pool): each
+  // landmark with its covariance and no correlation with the pose, the world
+  // frame becoming the map's. The camera's place in it is unknown: the pose
   // covariance widens (kLoadedMapPoseSigma*), and every frame is held back
   // (prediction only) until a RANSAC fit of >= kMapRelocaliseMinInliers
   // places the camera in the map (awaitingMap()). Then tracking goes on as
   // usual and new landmarks join the loaded ones, which the pool evicts
   // like any other (their saved observation counts, last seen at the load).
-  // kNotInitialised, kAwaitingImu / kInvalidArgument (not freshly reset,
-  // inertial model, descriptor length, RANSAC off), kCapacityExceeded (more than
-  // max_landmarks - max_new_landmarks), kNonFinite / kNotPositiveDefinite
+  // The inertial model needs the map's gravity direction (world frame, unit,
+  // pointing down; map_file::MapData::gravity_direction) and a filter still
+  // awaiting its alignment: the map is kept until the alignment, which then
+  // turns its gravity-aligned world onto the map's gravity (docs/DESIGN.md
+  // "Map file"), and a fit must agree with the IMU's tilt
+  // (kMapRelocaliseMaxTilt); the yaw and position come from the fit.
+  // kNotInitialised, kInvalidArgument (not freshly reset, descriptor length,
+  // RANSAC off, inertial without gravity direction), kCapacityExceeded (more
+  // than max_landmarks - max_new_landmarks), kNonFinite / kNotPositiveDefinite
   // (a landmark); the filter is reset again on any error after the first
   // change, so nothing is loaded half.
-  Status loadMap(const std::vector<PriorLandmark>& map);
-  bool awaitingMap() const { return relocaliser_.awaitingMap(); }
+  Status loadMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction = Vec3::Zero());
+  bool awaitingMap() const { return relocaliser_.awaitingMap() || !pending_map_.empty(); }
   static constexpr double kLoadedMapPoseSigmaP = 0.1;      // [m]
   static constexpr double kLoadedMapPoseSigmaTheta = 0.3;  // [rad]
   const std::vector<Vec3>& landmarkPositions() const { return book_.positions(); }
@@ -192,6 +197,14 @@ class Eskf final : public SlamBackend {
   void refreshImuNoise();
   void advanceFirstEstimates();
   Status align();
+  // loadMap's checks of the map before any change.
+  Status checkMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction) const;
+  // The map into the pool, the pose block restarting from C_start widened.
+  Status applyMap(const std::vector<PriorLandmark>& map, const PoseMat& C_start);
+  // The gravity-aligned world turned onto the map's gravity direction.
+  void turnWorldTo(const Vec3& gravity_direction);
+  // A map fit's camera tilt against the IMU's (kMapRelocaliseMaxTilt).
+  bool tiltAgrees(const Mat3& R_fit) const;
   // The camera Jacobian of the pose block's first 6 columns as they are now
   // (the identity while the calibration's transition is open).
   Mat6 frameCameraJacobian(const NominalState& x) const { return calibration_.cameraJacobian(*model_, x); }
@@ -218,6 +231,9 @@ class Eskf final : public SlamBackend {
   // Inertial model: samples collected for the gravity alignment until it is done.
   bool awaiting_alignment_ = false;
   std::vector<ImuSample> alignment_samples_;
+  // Inertial model: a map loaded before the alignment, applied by it.
+  std::vector<PriorLandmark> pending_map_;
+  Vec3 pending_gravity_ = Vec3::Zero();
   // Samples on the estimated offset's clock (MotionModel::onEstimatedClock)
   // not yet predicted with: one the offset moved later than its configured
   // stamp waits until a sample or frame at least as late arrives, since the
