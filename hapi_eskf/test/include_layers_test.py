@@ -25,6 +25,7 @@ ALLOWED = {
     "fastslam": {"backend"},
     "surface_motion": set(),
     "map_file": set(),
+    "session": {"backend", "covariance", "eskf", "map_file"},
 }
 # The top: the factory and the settings that compose every part's table
 # (settings.hpp) sit above every folder; the rest of the top-level

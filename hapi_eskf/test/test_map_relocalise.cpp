@@ -8,7 +8,7 @@
 #include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/map_file/map_landmarks.hpp"
 #include "hapi_eskf/map_file/map_reader.hpp"
-#include "hapi_eskf/map_file/map_session.hpp"
+#include "hapi_eskf/session/map_session.hpp"
 #include "hapi_eskf/map_file/map_writer.hpp"
 #include "basic_settings.hpp"
 #include "inertial_scenario.hpp"

@@ -2,7 +2,7 @@
 // which settings can load a map, the pool saved in the published frame, and
 // a read map into a fresh filter (docs/DESIGN.md "Map file").
 #include "hapi_eskf/eskf/eskf.hpp"
-#include "hapi_eskf/map_file/map_session.hpp"
+#include "hapi_eskf/session/map_session.hpp"
 #include "hapi_eskf/slam_backend_factory.hpp"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,8 @@
 # test (the CUDA parity tests cover both pose blocks, 12 and 18), the
 # benchmark at K = 8000, and the ROS-free replay (eskf_replay) of recorded
 # landmark streams with the CUDA backend against the CPU backend, per motion
-# model: the largest position difference of the per-frame estimates and the
+# model (and `inertial` with the scene motion states, a pose block of 24):
+# the largest position difference of the per-frame estimates and the
 # per-frame times. Streams: .device/streams/*.txt (dump_frames.py output,
 # carried with the call). Logs go to $OUT (or ./device-out).
 set -uo pipefail
@@ -20,10 +21,13 @@ REPLAY="$B/hapi_eskf/tools/eskf_replay"
 for s in "$REPO"/.device/streams/*.txt; do
   name="$(basename "$s" .txt)"
   offset=0
-  case "$name" in skin_*) offset=-0.003 ;; esac
-  for model in constant_velocity inertial; do
+  case "$name" in skin_* | motion_*) offset=-0.003 ;; esac
+  for model in constant_velocity inertial inertial_scene; do
+    settings="motion_model=${model%_scene}"
+    [ "$model" = inertial_scene ] && settings="$settings scene_motion=true"
     for backend in cpu cuda; do
-      "$REPLAY" "$s" motion_model=$model backend=$backend imu_time_offset=$offset \
+      # shellcheck disable=SC2086  # settings: separate key=value words
+      "$REPLAY" "$s" $settings backend=$backend imu_time_offset=$offset \
         --out "$OUT/${name}_${model}_${backend}" >"$OUT/${name}_${model}_${backend}.log" 2>&1
       echo "$name $model $backend: $(grep '^frames=' "$OUT/${name}_${model}_${backend}.log")"
       echo "  $(grep '^frame time' "$OUT/${name}_${model}_${backend}.log")"

@@ -3,7 +3,7 @@
 #include "hapi_eskf/eskf/storage_factory.hpp"
 #include "hapi_eskf/ros/eskf_nodelet.hpp"
 
-#include "hapi_eskf/map_file/map_session.hpp"
+#include "hapi_eskf/session/map_session.hpp"
 #include "hapi_eskf/ros/conversions.hpp"
 #include "hapi_eskf/slam_backend_factory.hpp"
 

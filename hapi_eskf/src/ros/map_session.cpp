@@ -3,7 +3,7 @@
 
 #include "hapi_eskf/map_file/map_checks.hpp"
 #include "hapi_eskf/map_file/map_reader.hpp"
-#include "hapi_eskf/map_file/map_session.hpp"
+#include "hapi_eskf/session/map_session.hpp"
 
 #include <ros/console.h>
 #include <ros/time.h>

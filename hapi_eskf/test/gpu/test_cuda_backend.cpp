@@ -28,7 +28,7 @@ TEST(CudaBackend, FactoryReportsDeviceOrReason) {
   EXPECT_EQ(ok, b != nullptr) << err;
   if (!ok) EXPECT_FALSE(err.empty());
   EXPECT_EQ(cuda::makeCudaBackend(-1, 32, kCameraMotionDim, cudaSettings(), &err), nullptr);
-  EXPECT_EQ(cuda::makeCudaBackend(10, 32, 15, cudaSettings(), &err), nullptr);  // no kernel for that pose block
+  EXPECT_EQ(cuda::makeCudaBackend(10, 32, 13, cudaSettings(), &err), nullptr);  // no kernel for that pose block
   EskfSettings absent = cudaSettings();
   absent.cuda_device = 999;
   EXPECT_EQ(cuda::makeCudaBackend(10, 32, kCameraMotionDim, absent, &err), nullptr);

@@ -53,7 +53,7 @@ TEST(CudaPartitioned, FactoryNamesAndRefusesFp32) {
 // max_active 30: the active part fills up and is flushed many times.
 TEST(CudaPartitioned, EqualsDenseCpuOverLongSequences) {
   HAPI_REQUIRE_CUDA_DEVICE();
-  for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+  for (int P : {kCameraMotionDim, cuda::kMaxCudaPoseDim}) {
     auto part = makeCudaPartitioned(100, P, 30);
     auto dense = makeCpuBackend(100, 8, P);
     ASSERT_TRUE(part && dense);
@@ -71,7 +71,7 @@ TEST(CudaPartitioned, EqualsDenseCpuOverLongSequences) {
 // representation and flush triggers, so the same results at every step.
 TEST(CudaPartitioned, EqualsCpuPartitioned) {
   HAPI_REQUIRE_CUDA_DEVICE();
-  for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+  for (int P : {kCameraMotionDim, cuda::kMaxCudaPoseDim}) {
     auto gpu = makeCudaPartitioned(100, P, 30);
     auto cpu = makePartitionedCpuBackend(100, 8, P, CpuLinearAlgebra::kBlas, 30, 1);
     ASSERT_TRUE(gpu && cpu);
@@ -87,7 +87,7 @@ TEST(CudaPartitioned, EqualsCpuPartitioned) {
 // the dense CPU backend (seed) and against the CPU variant with the same
 // settings and calls, hence the same flushes and shares (seed + 10).
 void expectStagedEqualsDenseAndCpu(int shares, bool background, unsigned seed) {
-  for (int P : {kCameraMotionDim, kMaxPoseDim}) {
+  for (int P : {kCameraMotionDim, cuda::kMaxCudaPoseDim}) {
     SCOPED_TRACE("shares " + std::to_string(shares) + (background ? " background" : "") + ", P " +
                  std::to_string(P));
     auto gpu = makeCudaPartitioned(100, P, 30, shares, background);

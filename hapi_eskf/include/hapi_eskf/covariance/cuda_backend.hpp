@@ -8,6 +8,13 @@
 namespace hapi_eskf {
 namespace cuda {
 
+// The largest pose block the device's prediction kernel unrolls (P x P
+// threads of one block, at most 1024): the inertial model with both
+// calibrations and the frame error, or with the scene motion states; the
+// scene motion with the extrinsic and the frame error (37 rows) is not
+// supported on the device.
+constexpr int kMaxCudaPoseDim = 31;
+
 // A backend for `capacity` landmarks and a pose block of pose_dim rows (12
 // or 18, types.hpp) with the device-side settings of `s`:
 // precision, cuda_device, cuda_rank_update, cuda_solve, cuda_stage_times

@@ -2,7 +2,7 @@
 // stereo calibration heard on ~left/camera_info and ~right/camera_info (what
 // a saved map records and a loaded one is checked against), the map loaded
 // from ~map_file or ~load_map, and the relocalisation state /diagnostics
-// reports. The map logic itself is ROS-free (map_file/map_session.hpp).
+// reports. The map logic itself is ROS-free (session/map_session.hpp).
 //
 // A loaded map stays the session's map: every filter start (the first frame,
 // ~reset, a time jump, a restart after a backend fault) loads it into the

@@ -86,6 +86,7 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
   // The pose blocks of the motion models (with the inertial model's
   // calibration rows), with or without the frame-error rows: the sizes
   // covariance_kernels.cu unrolls.
+  // The scene motion's 6 rows have the frame error's size: the same sizes.
   bool model_dim = false;
   for (int m : {kCameraMotionDim, kGyroDim, kInertialDim, kInertialDim + kCalibTimeOffsetDim,
                 kInertialDim + kCalibExtrinsicDim, kInertialDim + kCalibExtrinsicDim + kCalibTimeOffsetDim})
@@ -94,8 +95,8 @@ std::unique_ptr<CovarianceBackend> makeCudaBackend(int capacity, int descriptor_
     *err = "CUDA backend: pose block must have the rows of a motion model (" + std::to_string(kCameraMotionDim) +
            ", " + std::to_string(kGyroDim) + " or " + std::to_string(kInertialDim) + " + " +
            std::to_string(kCalibExtrinsicDim) + " and/or " + std::to_string(kCalibTimeOffsetDim) +
-           " calibration rows, + " + std::to_string(kFrameErrorDim) + " with the frame error), got " +
-           std::to_string(pose_dim);
+           " calibration rows, + " + std::to_string(kFrameErrorDim) + " with the frame error or the scene motion; at most " +
+           std::to_string(kMaxCudaPoseDim) + "), got " + std::to_string(pose_dim);
     return nullptr;
   }
   std::string info;

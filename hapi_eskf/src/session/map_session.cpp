@@ -1,5 +1,5 @@
 // The running back end <-> a map file (map_session.hpp).
-#include "hapi_eskf/map_file/map_session.hpp"
+#include "hapi_eskf/session/map_session.hpp"
 
 #include "hapi_eskf/eskf/eskf.hpp"
 #include "hapi_eskf/map_file/map_landmarks.hpp"
