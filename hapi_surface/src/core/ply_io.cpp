@@ -194,9 +194,15 @@ SurfaceStatus parsePly(const std::string& bytes, Mesh* mesh_out, std::vector<Rgb
         const char* rec = bytes.data() + pos;
         mesh.vertices.emplace_back(get(rec, x), get(rec, y), get(rec, z));
         if (nx >= 0 && ny >= 0 && nz >= 0) mesh.normals.emplace_back(get(rec, nx), get(rec, ny), get(rec, nz));
-        if (r >= 0 && gr >= 0 && b >= 0)
-          colours.push_back({static_cast<std::uint8_t>(get(rec, r)), static_cast<std::uint8_t>(get(rec, gr)),
-                             static_cast<std::uint8_t>(get(rec, b))});
+        if (r >= 0 && gr >= 0 && b >= 0) {
+          // A colour stored as a float property may be anything: only 0-255
+          // converts to a byte (a NaN or 300 is undefined behaviour).
+          const double c[3] = {get(rec, r), get(rec, gr), get(rec, b)};
+          for (double ci : c)
+            if (!(ci >= 0.0 && ci <= 255.0)) return *why = "vertex colour outside 0-255", SurfaceStatus::kParseError;
+          colours.push_back({static_cast<std::uint8_t>(c[0]), static_cast<std::uint8_t>(c[1]),
+                             static_cast<std::uint8_t>(c[2])});
+        }
         if (val >= 0) mesh.values.push_back(static_cast<float>(get(rec, val)));
         if (vw >= 0) mesh.value_weights.push_back(static_cast<float>(get(rec, vw)));
       }
