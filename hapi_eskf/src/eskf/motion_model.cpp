@@ -17,11 +17,18 @@ std::unique_ptr<MotionModel> makeMotionModel(const EskfSettings& s, const Camera
   return makeConstantVelocityMotionModel(s, extrinsic);
 }
 
+namespace {
+// The rows after the inertial model's 18 (calibration, scene motion) are the
+// ES-EKF's; the SEIF's information-form motion update and the other back
+// ends (no inertial pose block) do not estimate them.
+bool hasExtraInertialRows(const EskfSettings& s) {
+  return s.motion_model == MotionModelKind::kInertial && s.backend_algorithm == BackendAlgorithm::kEskf;
+}
+}  // namespace
+
 CalibrationLayout calibrationLayout(const EskfSettings& s) {
   CalibrationLayout l;
-  // The ES-EKF's; the SEIF's information-form motion update and the other
-  // back ends (no inertial pose block) do not estimate it.
-  if (s.motion_model != MotionModelKind::kInertial || s.backend_algorithm != BackendAlgorithm::kEskf) return l;
+  if (!hasExtraInertialRows(s)) return l;
   int row = kInertialDim;
   if (s.calib_cam_extrinsics) {
     l.extrinsic = row;
@@ -33,9 +40,7 @@ CalibrationLayout calibrationLayout(const EskfSettings& s) {
 
 SceneMotionLayout sceneMotionLayout(const EskfSettings& s) {
   SceneMotionLayout l;
-  // As the calibration: the ES-EKF's inertial model only.
-  if (!s.scene_motion || s.motion_model != MotionModelKind::kInertial || s.backend_algorithm != BackendAlgorithm::kEskf)
-    return l;
+  if (!s.scene_motion || !hasExtraInertialRows(s)) return l;
   l.row = kInertialDim + calibrationLayout(s).dim();
   return l;
 }
