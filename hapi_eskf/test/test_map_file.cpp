@@ -138,6 +138,20 @@ TEST(MapFile, RoundTripIsExact) {
   EXPECT_EQ(b.size(), sectionOffset(b, 2) + 1 + 4 + 8 + 300 * (kLandmarkFixedBytes + 32));
 }
 
+TEST(MapFile, ExtremeCovariancesComeBackBitForBit) {
+  // Entries near the largest double (the writer's symmetrising once summed
+  // them to infinity) and subnormal off-diagonal entries.
+  MapData m = sampleMap(2);
+  m.landmarks[0].covariance = Mat3::Identity() * 1e308;
+  m.landmarks[0].covariance(0, 1) = m.landmarks[0].covariance(1, 0) = 8e307;
+  m.landmarks[1].covariance(0, 2) = m.landmarks[1].covariance(2, 0) = 5e-324;
+  const std::vector<uint8_t> b = encoded(m);
+  MapData back;
+  const MapError e = decodeMap(b.data(), b.size(), {}, &back);
+  ASSERT_FALSE(e) << e.message;
+  expectSame(m, back);
+}
+
 TEST(MapFile, FileRoundTripAndAnEmptyMap) {
   const std::string path = ::testing::TempDir() + "map_file_test_" + std::to_string(::getpid()) + ".hmap";
   for (int n : {0, 5}) {

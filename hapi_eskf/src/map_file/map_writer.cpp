@@ -39,10 +39,14 @@ void landmarks(const MapData& map, ByteWriter* w) {
   for (const MapLandmark& l : map.landmarks) {
     w->u64(l.id);
     for (int i = 0; i < 3; ++i) w->f64(l.position[i]);
-    // The upper triangle of the symmetrised covariance (a symmetric one
-    // comes back bit for bit).
+    // The upper triangle of the symmetrised covariance. A symmetric entry
+    // is written as it is, so it comes back bit for bit: halving the sum
+    // would overflow near the largest double and lose a subnormal's bit.
     for (int r = 0; r < 3; ++r)
-      for (int k = r; k < 3; ++k) w->f64(0.5 * (l.covariance(r, k) + l.covariance(k, r)));
+      for (int k = r; k < 3; ++k) {
+        const double upper = l.covariance(r, k), lower = l.covariance(k, r);
+        w->f64(upper == lower ? upper : 0.5 * upper + 0.5 * lower);
+      }
     w->u32(l.times_observed);
     w->raw(l.descriptor.data(), l.descriptor.size());
   }
