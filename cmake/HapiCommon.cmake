@@ -57,6 +57,19 @@ if(NOT catkin_FOUND AND HAPI_GTEST_SOURCE_DIR AND NOT TARGET GTest::gtest)
 endif()
 
 # gtest for the ROS-free build (catkin brings its own via catkin_add_gtest).
+# hapi_set_test_label(test label): gives a test its one label. scripts/test.sh
+# runs ctest with -j (the machine's cores), and only `sanitizer` tests run
+# beside each other there: the fuzz runs and the sanitized gtests work in
+# their own build folder with no ROS master, port or shared file. Every other
+# test runs alone (RUN_SERIAL), so rostests and the two-host runs keep the
+# timing margins they were written for on a 2-core machine.
+function(hapi_set_test_label test label)
+  set_tests_properties(${test} PROPERTIES LABELS ${label})
+  if(NOT label STREQUAL "sanitizer")
+    set_tests_properties(${test} PROPERTIES RUN_SERIAL TRUE)
+  endif()
+endfunction()
+
 # hapi_add_core_gtest(name SOURCES ... LIBS ... [LABEL l]) registers a gtest in
 # both worlds, with test/gtest/hapi_gtest_main.cpp as its main(): a binary
 # whose every test skipped (no CUDA device, a back end not built) shows as
@@ -88,8 +101,8 @@ function(hapi_add_core_gtest name)
     set(test_name ${name})
   endif()
   target_include_directories(${name} PRIVATE ${HAPI_GTEST_SUPPORT_DIR})
-  set_tests_properties(${test_name} PROPERTIES
-    SKIP_REGULAR_EXPRESSION "\\[ HAPI ALL SKIPPED \\]" LABELS ${ARG_LABEL})
+  set_tests_properties(${test_name} PROPERTIES SKIP_REGULAR_EXPRESSION "\\[ HAPI ALL SKIPPED \\]")
+  hapi_set_test_label(${test_name} ${ARG_LABEL})
 endfunction()
 
 # Every ctest entry carries exactly one label: unit (ROS-free gtests, tests of
@@ -112,6 +125,6 @@ function(hapi_label_tests label)
     if(l STREQUAL "unit" AND t MATCHES "^_ctest_.*_rostest_")
       set(l system)
     endif()
-    set_tests_properties(${t} PROPERTIES LABELS ${l})
+    hapi_set_test_label(${t} ${l})
   endforeach()
 endfunction()

@@ -30,8 +30,10 @@ set -u
 # Test executables are EXCLUDE_FROM_ALL in catkin: build them explicitly.
 catkin_make -j"${HAPI_JOBS:-$(nproc)}" tests
 # Each ctest entry runs under the devel-space environment (catkin's env.sh);
-# rostests start their own roscore on a free port.
+# rostests start their own roscore on a free port. With -j only the sanitizer
+# tests (fuzz runs, sanitized gtests) run beside each other; every other test
+# is RUN_SERIAL (cmake/HapiCommon.cmake hapi_set_test_label).
 export ROS_HOME="${ROS_HOME:-$WS/ros_home}"
 mkdir -p "$ROS_HOME"
 cd "$WS/build"
-ctest --output-on-failure --timeout "${HAPI_TEST_TIMEOUT:-900}" ${LABEL_ARGS[@]+"${LABEL_ARGS[@]}"} "$@"
+ctest -j"${HAPI_JOBS:-$(nproc)}" --output-on-failure --timeout "${HAPI_TEST_TIMEOUT:-900}" ${LABEL_ARGS[@]+"${LABEL_ARGS[@]}"} "$@"

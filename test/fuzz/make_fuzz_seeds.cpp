@@ -1,7 +1,7 @@
 // Writes the seed corpus of the fuzz targets: a few valid inputs per target
 // (and one near-miss each) in the record format of bounded_message.hpp.
 //   make_fuzz_seeds <corpus folder>   -> <folder>/{landmarks,imu,image_pair,compressed,image_flow,surface_motion_flow,
-//                                                 surface_input,dense_depth_pair,map_file}/seed_*
+//                                                 surface_input,dense_depth_pair,map_file,camera_info}/seed_*
 // Deterministic (fixed seeds): rerunning it rewrites the same files.
 #include "bounded_message.hpp"
 #include "synthetic_frames.hpp"
@@ -320,6 +320,19 @@ void mapFile(const std::string& dir) {
   write(dir, "seed_empty_map", encodeMap(m, &error));
 }
 
+// EskfNodelet's left and right camera_info: a rectified pair (the right's
+// Tx = -fx * 0.11 m), and a near miss (the right's Tx of the wrong sign).
+void cameraInfo(const std::string& dir) {
+  Bytes pair;
+  hapi_fuzz::appendRecord(info(752, 480, 0.0), &pair);
+  hapi_fuzz::appendRecord(info(752, 480, -80.0 * 0.11), &pair);
+  write(dir, "seed_rectified_pair", pair);
+  Bytes wrong_sign;
+  hapi_fuzz::appendRecord(info(752, 480, 0.0), &wrong_sign);
+  hapi_fuzz::appendRecord(info(752, 480, 80.0 * 0.11), &wrong_sign);
+  write(dir, "seed_negative_baseline", wrong_sign);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -338,5 +351,6 @@ int main(int argc, char** argv) {
   surfaceMotionFlows(out + "/surface_motion_flow");
   surfaceInput(out + "/surface_input");
   mapFile(out + "/map_file");
+  cameraInfo(out + "/camera_info");
   return 0;
 }

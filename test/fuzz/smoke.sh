@@ -28,7 +28,7 @@ case "$MODE" in
     command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
     cmake -S "$HERE" -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++-14 -DHAPI_MSGS_INCLUDE_DIR="$MSGS" "${launcher[@]}" >/dev/null
     cmake --build "$BUILD" -j"${HAPI_JOBS:-$(nproc)}" --target landmarks_fuzzer imu_fuzzer image_pair_fuzzer compressed_fuzzer image_flow_fuzzer surface_motion_flow_fuzzer \
-      surface_input_fuzzer dense_depth_pair_fuzzer map_file_fuzzer \
+      surface_input_fuzzer dense_depth_pair_fuzzer map_file_fuzzer camera_info_fuzzer \
       sanitized_gtests
     ;;
   gtests)
@@ -36,19 +36,25 @@ case "$MODE" in
     [ -s "$LIST" ] || { echo "smoke.sh: $LIST missing (smoke.sh build first)"; exit 77; }
     # Any ASan/UBSan/LeakSanitizer report aborts its test (exit status != 0).
     export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1" UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-    failed=()
-    while read -r t; do
-      [ -n "$t" ] || continue
-      start=$SECONDS
+    # One binary per core (ctest gives this entry PROCESSORS 2), taken in the
+    # list's order, which puts the longest first (test/fuzz/CMakeLists.txt).
+    # Each verdict is printed whole when its binary ends.
+    run_gtest() {
+      local t="$1" start=$SECONDS report
       if "$BUILD/$t" --gtest_brief=1 >"$BUILD/$t.log" 2>&1; then
         echo "smoke.sh: $t passed ($((SECONDS - start)) s)"
       else
-        echo "smoke.sh: $t FAILED ($((SECONDS - start)) s):"
-        tail -n 60 "$BUILD/$t.log"
-        failed+=("$t")
+        report="$(tail -n 60 "$BUILD/$t.log")"
+        printf 'smoke.sh: %s FAILED (%d s):\n%s\n' "$t" $((SECONDS - start)) "$report"
+        return 1
       fi
-    done <"$LIST"
-    [ ${#failed[@]} -eq 0 ] || { echo "smoke.sh: failed: ${failed[*]}"; exit 1; }
+    }
+    export -f run_gtest
+    export BUILD
+    grep -v '^$' "$LIST" | xargs -P "${HAPI_JOBS:-$(nproc)}" -I{} bash -c 'run_gtest "$1"' _ {} \
+      | tee "$BUILD/sanitized_gtests.out" || true  # the verdict is the FAILED lines
+    failed="$(sed -n 's/^smoke.sh: \([^ ]*\) FAILED.*/\1/p' "$BUILD/sanitized_gtests.out" | tr '\n' ' ')"
+    [ -z "$failed" ] || { echo "smoke.sh: failed: $failed"; exit 1; }
     ;;
   run)
     TARGET="${3:?usage: smoke.sh run BUILD_DIR TARGET SECONDS}"

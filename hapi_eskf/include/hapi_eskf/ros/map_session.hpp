@@ -17,6 +17,7 @@
 #include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/map_file/map_data.hpp"
 #include "hapi_eskf/map_file/map_error.hpp"
+#include "hapi_eskf/ros/map_calibration.hpp"
 #include "hapi_eskf/ros/params.hpp"
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
@@ -32,12 +33,6 @@
 namespace hapi_eskf {
 namespace ros_glue {
 
-// The rectified stereo calibration from the two CameraInfo messages: the
-// left P (fx, fy, cx, cy), its image size, and the baseline -P_right[3] /
-// P_right[0] (REP-104 / image_geometry's StereoCameraModel). False and *why
-// when a message does not describe a rectified stereo pair.
-bool toMapCalibration(const sensor_msgs::CameraInfo& left, const sensor_msgs::CameraInfo& right,
-                      map_file::MapCalibration* out, std::string* why);
 
 class MapSession {
  public:
