@@ -15,11 +15,7 @@ set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
 FRAMES="${1:-100}"
 B="$REPO/build-device-flow"
-CV="$(mktemp -d)"
-tar -C "$CV" -xJf "$REPO/.device/opencv.tar.xz"
-[ -f "$CV/opencv/lib/libopencv_video.so.406" ] ||
-  { echo "the carried OpenCV has no video module: rerun tools/device/prepare.sh opencv"; exit 1; }
-export LD_LIBRARY_PATH="$CV/opencv/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+unpack_opencv video || exit 1
 {
   nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv
   echo "host cores: $(nproc)"
@@ -27,10 +23,7 @@ export LD_LIBRARY_PATH="$CV/opencv/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
   nvcc --version | tail -1
   git -C "$REPO" log -1 --format='commit %h %cs' 2>/dev/null || true
 } | tee "$OUT/device.txt"
-HAPI_DEVICE_CMAKE_ARGS="-DOpenCV_DIR=$REPO/tools/device/opencv -DHAPI_DEVICE_OPENCV=$CV/opencv" \
-  bash "$REPO/tools/device/build_core.sh" "$B" "hapi_dataset;hapi_sim;hapi_frontend" \
-  >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
-echo "build ok"
+build_with_opencv "$B" "hapi_dataset;hapi_sim;hapi_frontend" || exit 1
 BENCH="$B/hapi_frontend/bench/hapi_frontend_flow_bench"
 [ -x "$BENCH" ] && [ -x "$B/hapi_frontend/test/gpu/hapi_frontend_flow_gpu_test" ] ||
   { echo "the image-flow targets were not built"; grep -i "opencv\|video" "$OUT/build.log" | head; exit 1; }

@@ -13,22 +13,13 @@ set -uo pipefail
 # shellcheck source=device_env.sh
 source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
 B="$REPO/build-device-latency"
-CV="$(mktemp -d)"
-tar -C "$CV" -xJf "$REPO/.device/opencv.tar.xz"
-export LD_LIBRARY_PATH="$CV/opencv/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-# OpenCV's core loads OpenBLAS (Debian's build), so it travels with it; the
-# CPU backend links the same library, as in the demo (cpu_linear_algebra blas).
-ln -sf libopenblas.so.0 "$CV/opencv/lib/libopenblas.so"
+unpack_opencv || exit 1
 {
   nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv
   echo "host cores: $(nproc)"
   c++ --version | head -1
 } | tee "$OUT/device.txt"
-HAPI_DEVICE_CMAKE_ARGS="-DOpenCV_DIR=$REPO/tools/device/opencv -DHAPI_DEVICE_OPENCV=$CV/opencv \
-  -DHAPI_OPENBLAS_LIBRARY=$CV/opencv/lib/libopenblas.so" \
-  bash "$REPO/tools/device/build_core.sh" "$B" "hapi_dataset;hapi_sim;hapi_eskf;hapi_frontend" \
-  >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
-echo "build ok"
+build_with_opencv "$B" "hapi_dataset;hapi_sim;hapi_eskf;hapi_frontend" || exit 1
 TOOL="$B/tools/latency/pipeline_latency"
 [ -x "$TOOL" ] || { echo "pipeline_latency was not built"; grep -i opencv "$OUT/build.log" | head; exit 1; }
 (cd "$B" && ctest --output-on-failure -R "frontend|hapi_sim" 2>&1) >"$OUT/ctest.log"

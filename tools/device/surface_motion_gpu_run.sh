@@ -13,23 +13,14 @@ set -uo pipefail
 # shellcheck source=device_env.sh
 source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
 B="$REPO/build-device-surface-motion"
-CV="$(mktemp -d)"
-tar -C "$CV" -xJf "$REPO/.device/opencv.tar.xz"
-[ -f "$CV/opencv/lib/libopencv_video.so.406" ] ||
-  { echo "the carried OpenCV has no video module: rerun tools/device/prepare.sh opencv"; exit 1; }
-export LD_LIBRARY_PATH="$CV/opencv/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-ln -sf libopenblas.so.0 "$CV/opencv/lib/libopenblas.so"
+unpack_opencv video || exit 1
 {
   nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv
   echo "host cores: $(nproc)"
   c++ --version | head -1
   git -C "$REPO" log -1 --format='commit %h %cs' 2>/dev/null || true
 } | tee "$OUT/device.txt"
-HAPI_DEVICE_CMAKE_ARGS="-DOpenCV_DIR=$REPO/tools/device/opencv -DHAPI_DEVICE_OPENCV=$CV/opencv \
-  -DHAPI_OPENBLAS_LIBRARY=$CV/opencv/lib/libopenblas.so" \
-  bash "$REPO/tools/device/build_core.sh" "$B" "hapi_dataset;hapi_sim;hapi_eskf;hapi_frontend" \
-  >"$OUT/build.log" 2>&1 || { tail -40 "$OUT/build.log"; exit 1; }
-echo "build ok"
+build_with_opencv "$B" "hapi_dataset;hapi_sim;hapi_eskf;hapi_frontend" || exit 1
 TOOL="$B/tools/latency/surface_motion_latency"
 [ -x "$TOOL" ] || { echo "surface_motion_latency was not built"; grep -i "opencv\|video" "$OUT/build.log" | head; exit 1; }
 rc=0
