@@ -2,7 +2,8 @@
 """Two sessions of the whole system (launch/replay.launch) on the same
 simulated scene (docs/DESIGN.md "Map file"):
 
-  map_sessions_test.py [--motion-model M] [--frontend-config YAML] SESSION1_BAG SESSION2_BAG [OTHER_BAG]
+  map_sessions_test.py [--motion-model M] [--frontend-config YAML] [--surfaces DIR]
+                       SESSION1_BAG SESSION2_BAG [OTHER_BAG]
 
 Session 1 replays SESSION1_BAG and saves its map through /eskf/save_map.
 Session 2 starts with ~map_file set to that map on SESSION2_BAG, whose
@@ -21,8 +22,12 @@ Every session runs --motion-model (constant_velocity by default; inertial:
 the bags' IMU levels each session's world and the map fit must agree with
 its tilt). The truths are the camera in the scene frame, so a second
 session on the scene placed elsewhere (make_sim_bag --scene-offset) and
-under other lighting (--lighting-gain) compares in the same frame. Exit 0
-pass, 1 fail.
+under other lighting (--lighting-gain) compares in the same frame. With
+--surfaces DIR, sessions 1 and 2 also run the dense depth and the surface
+(the skin's profiles), save their surfaces (/surface/save_surface) to
+DIR/session1.ply and DIR/session2.ply, and tools/eval/session_compare.py
+compares them (DIR/compare.{ply,png,json}; figures printed, not checked).
+Exit 0 pass, 1 fail.
 """
 import argparse
 import bisect
@@ -42,6 +47,8 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from scipy.spatial.transform import Rotation
 from std_srvs.srv import Trigger
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
 # Loose against the measured figure (docs/DESIGN.md "Map file": session 1's
 # drift over its 6 s plus session 2's error), tight against a filter that
@@ -119,9 +126,10 @@ class Watch:
 def run_session(watch, bag, map_file, options, timeout_s=120.0):
     """Replays `bag`; returns the roslaunch process once the bag is over."""
     watch.clear()
-    args = ["roslaunch", "hapi_slam", "replay.launch", "bag:=" + bag, "dense_depth:=false", "surface:=false",
-            "surface_motion:=false", "ground_truth:=false", "output:=log", "motion_model:=" + options.motion_model,
-            "delay:=3.0", "map_file:=" + map_file]
+    surfaces = "true" if options.surfaces else "false"
+    args = ["roslaunch", "hapi_slam", "replay.launch", "bag:=" + bag, "dense_depth:=" + surfaces,
+            "surface:=" + surfaces, "surface_motion:=false", "ground_truth:=false", "output:=log",
+            "motion_model:=" + options.motion_model, "delay:=3.0", "map_file:=" + map_file]
     if options.frontend_config:
         args.append("frontend_config:=" + options.frontend_config)
     proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
@@ -133,6 +141,23 @@ def run_session(watch, bag, map_file, options, timeout_s=120.0):
     if not watch.bag_over():
         raise RuntimeError("the bag did not finish within %.0f s" % timeout_s)
     return proc
+
+
+def save_surface(path):
+    """The running session's surface to `path` (PLY); its vertex count."""
+    from hapi_msgs.srv import SaveSurface
+    rospy.wait_for_service("/surface/save_surface", 10.0)
+    res = rospy.ServiceProxy("/surface/save_surface", SaveSurface)(path)
+    if not res.success:
+        raise RuntimeError("~save_surface: " + res.message)
+    return res.vertices
+
+
+def compare_surfaces(directory):
+    """session_compare.py of the two sessions' surfaces; its exit status."""
+    tool = os.path.join(REPO, "tools", "eval", "session_compare.py")
+    first, second = (os.path.join(directory, "session%d.ply" % i) for i in (1, 2))
+    return subprocess.call(["/usr/bin/python3", tool, first, second, os.path.join(directory, "compare")])
 
 
 def stop(proc):
@@ -194,6 +219,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--motion-model", default="constant_velocity", choices=("constant_velocity", "gyro", "inertial"))
     ap.add_argument("--frontend-config", default="", help="the front end's YAML (skin: config/frontend_skin.yaml)")
+    ap.add_argument("--surfaces", default="", help="folder: also map, save and compare the two sessions' surfaces")
     ap.add_argument("bags", nargs="+", help="SESSION1_BAG SESSION2_BAG [OTHER_BAG]")
     a = ap.parse_args()
     if len(a.bags) not in (2, 3):
@@ -215,10 +241,14 @@ def main():
         time.sleep(3.0)
         rospy.init_node("map_sessions_test", disable_signals=True)
         watch = Watch()
+        if a.surfaces:
+            os.makedirs(a.surfaces, exist_ok=True)
         proc = run_session(watch, bag1, "", a)
         try:
             rospy.wait_for_service("/eskf/save_map", 10.0)
             res = rospy.ServiceProxy("/eskf/save_map", Trigger)()
+            if a.surfaces:
+                print("session 1 surface: %d vertices" % save_surface(os.path.join(a.surfaces, "session1.ply")))
         finally:
             stop(proc)
         if not res.success:
@@ -233,8 +263,15 @@ def main():
         # its first camera position): T_map_world from its first odometry.
         t1, T_map_cam1 = watch.odom[0]
         T_map_world = T_map_cam1 @ np.linalg.inv(truth_at(truth1, t1))
-        stop(run_session(watch, bag2, map_path, a))
+        proc = run_session(watch, bag2, map_path, a)
+        try:
+            if a.surfaces:
+                print("session 2 surface: %d vertices" % save_surface(os.path.join(a.surfaces, "session2.ply")))
+        finally:
+            stop(proc)
         failures = check_session2(watch, truth1, truth2, T_map_world, frame_count(bag2))
+        if a.surfaces and compare_surfaces(a.surfaces) != 0:
+            failures.append("session_compare.py failed on the two surfaces")
         if other_bag:
             stop(run_session(watch, other_bag, map_path, a))
             failures += check_other_scene(watch)
