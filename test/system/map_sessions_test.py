@@ -2,7 +2,7 @@
 """Two sessions of the whole system (launch/replay.launch) on the same
 simulated scene (docs/DESIGN.md "Map file"):
 
-  map_sessions_test.py [--motion-model M] [--frontend-config YAML] [--surfaces DIR]
+  map_sessions_test.py [--motion-model M] [--frontend-config YAML] [--surfaces DIR] [--json FILE]
                        SESSION1_BAG SESSION2_BAG [OTHER_BAG]
 
 Session 1 replays SESSION1_BAG and saves its map through /eskf/save_map.
@@ -27,10 +27,13 @@ under other lighting (--lighting-gain) compares in the same frame. With
 (the skin's profiles), save their surfaces (/surface/save_surface) to
 DIR/session1.ply and DIR/session2.ply, and tools/eval/session_compare.py
 compares them (DIR/compare.{ply,png,json}; figures printed, not checked).
-Exit 0 pass, 1 fail.
+--json FILE writes the figures (relocalisation time, position and rotation
+errors, the other scene's verdict, the surfaces' comparison) for
+tools/eval/session_study.py. Exit 0 pass, 1 fail.
 """
 import argparse
 import bisect
+import json
 import os
 import re
 import signal
@@ -169,30 +172,38 @@ def stop(proc):
         proc.wait()
 
 
-def check_session2(watch, truth1, truth2, T_map_world, frames):
+def check_session2(watch, truth1, truth2, T_map_world, frames, figures):
     failures = []
     relocalised = [float(m.group(1)) for m in map(RELOCALISED.match, watch.states) if m]
     print("session 2 relocalisation states:", sorted(set(watch.states)))
+    figures["relocalised"] = bool(relocalised)
     if not relocalised:
         return ["session 2 never reported 'relocalised in the loaded map'"]
     t_reloc = relocalised[0]
     t_first_truth = truth2[0][0]
+    figures["relocalised_after_s"] = t_reloc - t_first_truth
     print("relocalised at %.3f, %.2f s into the bag" % (t_reloc, t_reloc - t_first_truth))
     early = [t for t, _ in watch.odom if t < t_reloc - 1e-3]
+    figures["odometry_before_relocalisation"] = len(early)
     if early:
         failures.append("%d odometry messages before relocalisation (first at %.3f)" % (len(early), early[0]))
-    errors = []
+    errors, angles = [], []
     for t, T_map_cam in watch.odom:
         if t < t_reloc - 1e-3:
             continue
         T_truth = T_map_world @ truth_at(truth2, t)
         errors.append(np.linalg.norm(T_map_cam[:3, 3] - T_truth[:3, 3]))
+        angles.append(np.linalg.norm(Rotation.from_matrix(T_map_cam[:3, :3].T @ T_truth[:3, :3]).as_rotvec()))
     if not errors:
         return failures + ["no odometry after relocalisation"]
-    errors = np.array(errors)
+    errors, angles = np.array(errors), np.degrees(angles)
     frames_after = frames * (truth2[0][-1] - t_reloc) / (truth2[0][-1] - t_first_truth)
-    print("session 2 after relocalisation: %d poses (of ~%.0f frames), position error median %.1f mm, max %.1f mm"
-          % (len(errors), frames_after, 1e3 * np.median(errors), 1e3 * errors.max()))
+    figures.update({"poses": len(errors), "position_error_median_m": float(np.median(errors)),
+                    "position_error_max_m": float(errors.max()), "rotation_error_median_deg": float(np.median(angles)),
+                    "rotation_error_max_deg": float(angles.max())})
+    print("session 2 after relocalisation: %d poses (of ~%.0f frames), position error median %.1f mm, max %.1f mm, "
+          "rotation error median %.3f deg, max %.3f deg"
+          % (len(errors), frames_after, 1e3 * np.median(errors), 1e3 * errors.max(), np.median(angles), angles.max()))
     if errors.max() > MAX_POSITION_ERROR:
         failures.append("position error %.1f mm > %.1f mm" % (1e3 * errors.max(), 1e3 * MAX_POSITION_ERROR))
     if len(errors) < MIN_COVERAGE * frames_after:
@@ -200,9 +211,11 @@ def check_session2(watch, truth1, truth2, T_map_world, frames):
     return failures
 
 
-def check_other_scene(watch):
+def check_other_scene(watch, figures):
     """Session 3: the map of another texture must never place the camera."""
     print("other scene: relocalisation states %s, %d frames held back" % (sorted(set(watch.states)), watch.held))
+    figures.update({"frames_held": watch.held, "relocalised": any(RELOCALISED.match(x) for x in watch.states),
+                    "odometry": len(watch.odom)})
     failures = []
     if watch.held < MIN_OTHER_HELD:
         failures.append("only %d frames of the other scene reached the filter" % watch.held)
@@ -220,6 +233,7 @@ def main():
     ap.add_argument("--motion-model", default="constant_velocity", choices=("constant_velocity", "gyro", "inertial"))
     ap.add_argument("--frontend-config", default="", help="the front end's YAML (skin: config/frontend_skin.yaml)")
     ap.add_argument("--surfaces", default="", help="folder: also map, save and compare the two sessions' surfaces")
+    ap.add_argument("--json", default="", help="write the figures here")
     ap.add_argument("bags", nargs="+", help="SESSION1_BAG SESSION2_BAG [OTHER_BAG]")
     a = ap.parse_args()
     if len(a.bags) not in (2, 3):
@@ -237,6 +251,7 @@ def main():
     os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
     core = subprocess.Popen(["roscore", "-p", str(port)], stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
     map_path = ""
+    figures = {"session2": {}, "start_offset_m": float(np.linalg.norm(start_offset[:3, 3]))}
     try:
         time.sleep(3.0)
         rospy.init_node("map_sessions_test", disable_signals=True)
@@ -269,12 +284,17 @@ def main():
                 print("session 2 surface: %d vertices" % save_surface(os.path.join(a.surfaces, "session2.ply")))
         finally:
             stop(proc)
-        failures = check_session2(watch, truth1, truth2, T_map_world, frame_count(bag2))
-        if a.surfaces and compare_surfaces(a.surfaces) != 0:
-            failures.append("session_compare.py failed on the two surfaces")
+        failures = check_session2(watch, truth1, truth2, T_map_world, frame_count(bag2), figures["session2"])
+        if a.surfaces:
+            if compare_surfaces(a.surfaces) != 0:
+                failures.append("session_compare.py failed on the two surfaces")
+            else:
+                with open(os.path.join(a.surfaces, "compare.json")) as f:
+                    figures["surfaces"] = json.load(f)
         if other_bag:
             stop(run_session(watch, other_bag, map_path, a))
-            failures += check_other_scene(watch)
+            figures["other"] = {}
+            failures += check_other_scene(watch, figures["other"])
     finally:
         if map_path:
             for p in (map_path, map_path[:-4] + "ply"):
@@ -282,6 +302,10 @@ def main():
                     os.remove(p)
         core.send_signal(signal.SIGINT)
         core.wait(30)
+    figures["failures"] = failures
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(figures, f, indent=1)
     for f in failures:
         print("FAIL:", f)
     print("PASS" if not failures else "FAILED")
