@@ -211,11 +211,18 @@ def check_session2(watch, truth1, truth2, T_map_world, frames, figures):
     return failures
 
 
-def check_other_scene(watch, figures):
-    """Session 3: the map of another texture must never place the camera."""
+def check_other_scene(watch, figures, truth, T_map_world):
+    """Session 3: the map of another texture must never place the camera.
+    Where it did, how far from the truth (the other scene shares the first
+    one's frame) tells a wrong place from a right one on shared structure."""
     print("other scene: relocalisation states %s, %d frames held back" % (sorted(set(watch.states)), watch.held))
     figures.update({"frames_held": watch.held, "relocalised": any(RELOCALISED.match(x) for x in watch.states),
                     "odometry": len(watch.odom)})
+    if watch.odom:
+        errors = np.array([np.linalg.norm(T[:3, 3] - (T_map_world @ truth_at(truth, t))[:3, 3]) for t, T in watch.odom])
+        figures["position_error_median_m"] = float(np.median(errors))
+        print("other scene placed: position error median %.1f mm, max %.1f mm" % (1e3 * np.median(errors),
+                                                                                   1e3 * errors.max()))
     failures = []
     if watch.held < MIN_OTHER_HELD:
         failures.append("only %d frames of the other scene reached the filter" % watch.held)
@@ -294,7 +301,7 @@ def main():
         if other_bag:
             stop(run_session(watch, other_bag, map_path, a))
             figures["other"] = {}
-            failures += check_other_scene(watch, figures["other"])
+            failures += check_other_scene(watch, figures["other"], read_truth(other_bag), T_map_world)
     finally:
         if map_path:
             for p in (map_path, map_path[:-4] + "ply"):
