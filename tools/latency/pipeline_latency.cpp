@@ -215,11 +215,7 @@ double percentile(const std::vector<double>& v, double q) {
   return hapi_nodelet_kit::quantileNearestRank(v, q, 0.0);
 }
 
-std::string spread(const std::vector<double>& v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.2f / %.2f / %.2f", percentile(v, 0.5), percentile(v, 0.99), percentile(v, 1.0));
-  return buf;
-}
+std::string spread(const std::vector<double>& v) { return hapi_nodelet_kit::formatP50P99Max(v, 2); }
 
 // Largest distance between two runs' positions at the frames both have.
 double maxPositionDifference(const std::vector<Pose>& a, const std::vector<Pose>& b, int* compared) {

@@ -198,12 +198,7 @@ RunResult run(bool gpu, const Recording& rec, hapi_frontend::ImageFlowParams tp,
   return r;
 }
 
-std::string spread(const std::vector<double>& v) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "%.3f / %.3f / %.3f", hapi_nodelet_kit::quantileNearestRank(v, 0.5, 0.0),
-                hapi_nodelet_kit::quantileNearestRank(v, 0.99, 0.0), hapi_nodelet_kit::quantileNearestRank(v, 1.0, 0.0));
-  return buf;
-}
+std::string spread(const std::vector<double>& v) { return hapi_nodelet_kit::formatP50P99Max(v, 3); }
 
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "surface_motion_latency: " << why << "\n"

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 namespace hapi_nodelet_kit {
@@ -29,6 +31,15 @@ inline double quantileRoundedPosition(std::vector<double> v, double q, double if
   if (v.empty()) return if_empty;
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+// "p50 / p99 / max" of a sample by nearest rank, `decimals` places each (0 / 0 / 0 when empty): the per-frame
+// time columns of pipeline_latency and surface_motion_latency.
+inline std::string formatP50P99Max(const std::vector<double>& v, int decimals) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.*f / %.*f / %.*f", decimals, quantileNearestRank(v, 0.5, 0.0), decimals,
+                quantileNearestRank(v, 0.99, 0.0), decimals, quantileNearestRank(v, 1.0, 0.0));
+  return buf;
 }
 
 }  // namespace hapi_nodelet_kit
