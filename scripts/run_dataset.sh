@@ -17,7 +17,9 @@
 # cores; docs/RUNNING.md "EuRoC/ASL recordings"), 5 % of timing jitter
 # allowed. --convert-only prints the bag's path as its last line and stops
 # (tools/eval/accuracy.py --recording). ARG:=VALUE pairs go to
-# launch/replay.launch (e.g. motion_model:=inertial where declared).
+# launch/replay.launch (e.g. motion_model:=inertial where declared); the
+# dense depth and the surface are off unless dense_depth:=true and
+# surface:=true are among them (their defaults are the skin's).
 # A recording without mav0/scene.yaml has no known geometry: its map error
 # is not scored. Exit status: that of run_pipeline.sh (0 within bounds,
 # 1 something missing, 2 a metric outside its bound); 1 for bad arguments.
@@ -101,6 +103,18 @@ if [ "$CONVERT_ONLY" = 1 ]; then
   echo "$BAG"
   exit 0
 fi
+
+# The dense depth searches 0.15-0.5 m and the surface's volume is a skin
+# patch (their defaults, docs/SURFACE.md): on a room-sized recording they
+# fuse nothing and only take the CPU that the front end and the filter need
+# (frames dropped). Off unless asked for with dense_depth:=true surface:=true.
+for part in dense_depth surface; do
+  case " ${LAUNCH_ARGS[*]-} " in
+    *" $part:="*) ;;
+    *) LAUNCH_ARGS+=("$part:=false")
+       echo "[dataset] $part off (its defaults are the skin's at 0.15-0.5 m; $part:=true turns it on)" ;;
+  esac
+done
 
 export HAPI_RUN_DIR="${HAPI_RUN_DIR:-$WS/run/$NAME}"
 if [ ! -f "$MAV0/scene.yaml" ]; then

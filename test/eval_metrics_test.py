@@ -387,6 +387,23 @@ class SurfaceMotionMetricsTest(unittest.TestCase):
                                    / np.linalg.norm(ray))), s, atol=1e-4)
         self.assertIsNone(smm.truth_from_camera_motion(R, p, v, w, -R.T @ R[:, 2], surfaces[:1], fx, fy, 40.0))
 
+    def test_static_point_motion_is_the_ray_cast_truth_at_the_same_point(self):
+        # The truth at a given point (a recording of unknown geometry, scored at
+        # the output's own point) equals the ray-cast truth where the ray hits.
+        surfaces = [sg.Sphere([0.0, 0.0, 0.0], 0.2)]
+        R = rot_x(-0.1) @ rot_z(0.4)
+        p = -0.5 * R[:, 2]
+        v, w = np.array([-0.004, 0.012, 0.002]), np.array([0.02, -0.05, 0.1])
+        ray = np.array([-0.04, 0.02, 1.0])
+        X, n, s, vn, iv = smm.truth_from_camera_motion(R, p, v, w, ray, surfaces, 600.0, 610.0, 40.0)
+        s2, vn2, iv2 = smm.static_point_motion(X, n, v, w, 600.0, 610.0, 40.0)
+        np.testing.assert_allclose(s2, s, atol=1e-12)
+        self.assertAlmostEqual(vn2, vn, places=12)
+        np.testing.assert_allclose(iv2, iv, atol=1e-12)
+        # A camera at rest sees a static point at rest.
+        np.testing.assert_allclose(smm.static_point_motion(X, n, np.zeros(3), np.zeros(3), 600.0, 610.0, 40.0)[0],
+                                   np.zeros(3), atol=0)
+
     def test_twist_from_poses_of_a_smooth_motion(self):
         t, p, r = circle_trajectory(n=200, rate=10.0)
         tw = smm.twist_from_poses(t, p, r)

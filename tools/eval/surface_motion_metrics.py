@@ -93,22 +93,32 @@ def velocity_nees(est_mm_s, true_mm_s, cov_mm_s, normals):
     return np.array(out)
 
 
+def static_point_motion(X, n, v_c, w_c, fx, fy, frame_rate):
+    """The motion, relative to the camera, of a static skin point X [m] with
+    normal n (camera frame) under the camera's twist (v_c [m/s], w_c [rad/s],
+    camera frame): (s [mm/s], normal velocity [mm/s], image velocity
+    [px/frame]). docs/DESIGN.md "Surface motion": Xdot = -(v + w x X),
+    s = Xdot - r (Xdot.n)/(r.n) with r the unit ray through X."""
+    X, n = np.asarray(X, float), np.asarray(n, float)
+    r = X / np.linalg.norm(X)
+    xdot = -(np.asarray(v_c, float) + np.cross(w_c, X))
+    s = xdot - r * (xdot @ n) / (r @ n)
+    return 1000.0 * s, 1000.0 * float(xdot @ n), projection_jacobian(X, fx, fy) @ xdot / frame_rate
+
+
 def truth_from_camera_motion(R_wc, p_wc, v_c, w_c, ray_c, surfaces, fx, fy, frame_rate):
     """The surface motion's truth at a pixel for a static scene, from the
     camera's true pose (R_wc, p_wc: camera in world), its twist in the camera
     frame (v_c [m/s], w_c [rad/s]) and the known surfaces (scene_geometry):
     (X [m], n, s [mm/s], normal velocity [mm/s], image velocity [px/frame]),
-    all in the camera frame; None when the ray misses. The definitions are
-    docs/DESIGN.md "Surface motion"'s: Xdot = -(v + w x X)."""
+    all in the camera frame; None when the ray misses."""
     import scene_geometry
     r = np.asarray(ray_c, float) / np.linalg.norm(ray_c)
     h = scene_geometry.first_hit(surfaces, p_wc, R_wc @ r)
     if h is None:
         return None
     X, n = h[0] * r, R_wc.T @ h[1]
-    xdot = -(np.asarray(v_c, float) + np.cross(w_c, X))
-    s = xdot - r * (xdot @ n) / (r @ n)
-    return X, n, 1000.0 * s, 1000.0 * float(xdot @ n), projection_jacobian(X, fx, fy) @ xdot / frame_rate
+    return (X, n) + static_point_motion(X, n, v_c, w_c, fx, fy, frame_rate)
 
 
 def log_so3(R):
