@@ -274,10 +274,19 @@ class StandstillTest(unittest.TestCase):
         e_p = np.outer(t / t[-1], [drift_m, 0.0, 0.0])
         e_r = np.array([rot_z(drift_rad * ti / t[-1]) for ti in t])
         est = dict(as_traj(t, e_p, e_r), cov=np.array([np.eye(6) * 1e-4] * 100))
-        return run_analysis.analyse(est, as_traj(t, g_p, g_r), max_dt=0.001)[0]
+        return run_analysis.analyse(est, as_traj(t, g_p, g_r), max_dt=0.001)
+
+    def test_the_plotted_error_is_the_anchored_one(self):
+        # A rotation drift of 0.5 deg about z plotted as such, not as what a
+        # free SE(3) alignment of a standstill leaves.
+        rep, series = self.standing(0.004, np.radians(0.5))
+        self.assertAlmostEqual(series["rotation_error_deg"][0], 0.0, places=9)
+        self.assertAlmostEqual(series["rotation_error_deg"][-1], 0.5, places=6)
+        self.assertLess(series["position_error_m"][-1], 0.004 + 4 * 0.4e-3 * 2)
+        self.assertIn("first pose", series["error_title"])
 
     def test_jitter_is_no_travel(self):
-        rep = self.standing(0.004, np.radians(0.5))
+        rep = self.standing(0.004, np.radians(0.5))[0]
         self.assertGreater(rep["distance_travelled_m"], 0.05)  # the path length of the jitter
         self.assertTrue(rep["standstill"])
         self.assertLess(rep["truth_net_travel_m"], run_analysis.STANDSTILL_MAX_NET_TRAVEL_M)

@@ -141,7 +141,8 @@ def print_further_metrics(rep):
         print(f"surface velocity      : error RMS {sm['rms_mm_s']:.2f} mm/s, p95 {sm['p95_mm_s']:.2f} mm/s over "
               f"{sm['samples']} outputs at {sm.get('rate_hz', float('nan')):.0f} Hz (true speed mean "
               f"{sm['mean_true_speed_mm_s']:.1f} mm/s; reporting zero: {sm['zero_output_rms_mm_s']:.1f} mm/s RMS; "
-              f"NEES {sm['nees']['mean']:.2f}, 2 dof; status OK {sm['ok_fraction'] * 100:.0f} %)")
+              f"NEES {sm['nees']['mean']:.2f}, 2 dof; status OK {sm['ok_fraction'] * 100:.0f} %; "
+              f"skin point {sm.get('depth_median_m', float('nan')):.2f} m away, median)")
     elif sm:
         print(f"surface velocity      : {sm['outputs']} outputs, status OK {sm['ok_fraction'] * 100:.0f} % "
               f"(statuses {sm['statuses']}), not scored: no truth for it")

@@ -2,7 +2,8 @@
 
 write_plots(series, out_dir) draws what run_analysis.analyse() returned:
   trajectory.png       estimate (SE(3)-aligned) and truth, top (x-y) and side (x-z) views;
-  error_over_time.png  position error [m] and rotation error [deg] over time;
+  error_over_time.png  position error [m] and rotation error [deg] over time (after the SE(3)
+                       alignment; standing still: tied to the truth at the first pose);
   nees.png             position and rotation NEES over time with the 95 % chi-square band
                        (only when the estimate carried covariances);
   surface_velocity.png the skin's on-surface velocity at the imaging pixel, estimate and
@@ -66,7 +67,7 @@ def write_plots(series, out_dir):
     axes[1].set_xlabel("time since first matched pose [s]")
     for ax in axes:
         ax.grid(True, alpha=0.3)
-    axes[0].set_title("error after SE(3) alignment")
+    axes[0].set_title(series.get("error_title", "error after SE(3) alignment"))
     save(fig, PLOT_FILES[1])
 
     if "nees_position" in series or "nees_rotation" in series:

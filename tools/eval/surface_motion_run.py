@@ -118,6 +118,7 @@ class SurfaceMotionCollector:
         if np.sum(ok) < 2:
             return rep, None
         rep.update(smm.velocity_errors(est_s[ok], true_s[ok]))
+        rep["depth_median_m"] = float(np.median([np.linalg.norm(o[6]) for o, k in zip(out, ok) if k]))
         rep["zero_output_rms_mm_s"] = float(np.sqrt(np.mean(np.sum(true_s[ok] ** 2, axis=1))))
         nees = smm.velocity_nees(est_s[ok], true_s[ok], cov[ok], n[ok])
         rep["nees"] = {"mean": float(np.mean(nees)), "samples": int(len(nees))}

@@ -137,6 +137,22 @@ def pose_nees(aligned_p, ref_p, est_r, ref_r, r_align, cov6):
     return nees(e_p, c_p), nees(e_r, c_r)
 
 
+def anchored_errors(est_p, est_r, ref_p, ref_r, anchor):
+    """(position errors (N, 3) [m], rotation errors (N, 3) [rad, world axes],
+    r_a) with the estimate's frame tied to the truth's at `anchor` (est_p0,
+    est_r0, ref_p0, ref_r0): the error of each pose once the estimate and the
+    truth agree at that instant. r_a turns the estimate's world into the
+    truth's."""
+    est_p0, est_r0, ref_p0, ref_r0 = anchor
+    r_a = ref_r0 @ est_r0.T
+    t_a = ref_p0 - r_a @ est_p0
+    p = (r_a @ np.asarray(est_p).T).T + t_a
+    r = np.einsum("ij,njk->nik", r_a, est_r)
+    e_p = np.asarray(ref_p) - p
+    e_r = np.array([so3_log(g @ e.T) for e, g in zip(r, ref_r)])
+    return e_p, e_r, r_a
+
+
 def anchored_pose_nees(est_p, est_r, ref_p, ref_r, cov6, anchor):
     """Position and rotation NEES per pose with the estimate's frame tied to the
     truth's at the instant that defines the filter's world (its reset or
@@ -148,13 +164,7 @@ def anchored_pose_nees(est_p, est_r, ref_p, ref_r, cov6, anchor):
     the world axes] as the odometry message states it; anchor: (est_p0,
     est_r0, ref_p0, ref_r0), the estimate and the truth at that instant.
     """
-    est_p0, est_r0, ref_p0, ref_r0 = anchor
-    r_a = ref_r0 @ est_r0.T
-    t_a = ref_p0 - r_a @ est_p0
-    p = (r_a @ np.asarray(est_p).T).T + t_a
-    r = np.einsum("ij,njk->nik", r_a, est_r)
-    e_p = np.asarray(ref_p) - p
-    e_r = np.array([so3_log(g @ e.T) for e, g in zip(r, ref_r)])
+    e_p, e_r, r_a = anchored_errors(est_p, est_r, ref_p, ref_r, anchor)
     cov6 = np.asarray(cov6, dtype=float)
     c_p = np.einsum("ij,njk,lk->nil", r_a, cov6[:, :3, :3], r_a)
     c_r = np.einsum("ij,njk,lk->nil", r_a, cov6[:, 3:, 3:], r_a)
