@@ -99,6 +99,22 @@ Eigen::Isometry3d SurfaceMotionEstimator::motionBetween(double t0, double t1) co
   return T;
 }
 
+bool SurfaceMotionEstimator::meanTwist(double t0, double t1, Vec3* v, Vec3* w) const {
+  Vec3 sv = Vec3::Zero(), sw = Vec3::Zero();
+  double covered = 0;
+  for (std::size_t k = 1; k < odom_.size(); ++k) {
+    const double a = std::max(odom_[k - 1].t, t0), b = std::min(odom_[k].t, t1);
+    if (b <= a) continue;
+    sv += 0.5 * (odom_[k - 1].v + odom_[k].v) * (b - a);
+    sw += 0.5 * (odom_[k - 1].w + odom_[k].w) * (b - a);
+    covered += b - a;
+  }
+  if (covered <= 0) return false;
+  *v = sv / covered;
+  *w = sw / covered;
+  return true;
+}
+
 std::optional<SurfaceMotionOutput> SurfaceMotionEstimator::addOdometry(const CameraOdometry& odom) {
   pending_outcomes_.clear();
   if (!odom.valid() || (!odom_.empty() && odom.t <= odom_.back().t)) return std::nullopt;
@@ -119,6 +135,7 @@ std::optional<SurfaceMotionOutput> SurfaceMotionEstimator::addOdometry(const Cam
   }
 
   Context c{odom.t, MotionStatus::kOk, "", odom.v, odom.w, RayGeometry(), fused_since_output_};
+  if (s_.twist_average_window > 0) meanTwist(odom.t - s_.twist_average_window, odom.t, &c.v, &c.w);
   fused_since_output_ = false;
   if (!has_camera_) {
     c.status = MotionStatus::kNoExtrinsic;

@@ -10,6 +10,7 @@ std::string SurfaceMotionSettings::validate() const {
   if (!e.empty()) return e;
   if (max_search_radius < search_radius) return "max_search_radius must be >= search_radius";
   if (max_flow_interval <= min_flow_interval) return "max_flow_interval must be > min_flow_interval";
+  if (twist_average_window >= history_length) return "twist_average_window must be < history_length";
   return "";
 }
 

@@ -104,6 +104,9 @@ class SurfaceMotionEstimator {
   // The camera's motion over [t0, t1] (T_c0_c1) from the odometry's twist,
   // integrated (docs/DESIGN.md "Surface motion", fusion).
   Eigen::Isometry3d motionBetween(double t0, double t1) const;
+  // The odometry's twist (v, w) averaged over [t0, t1] (trapezoid; over the
+  // part the kept odometry covers); false when it covers none of it.
+  bool meanTwist(double t0, double t1, Vec3* v, Vec3* w) const;
   SurfaceMotionOutput makeOutput(const Context& c, const Vec3& e, const Mat3& P) const;
 
   SurfaceMotionSettings s_;
