@@ -2,13 +2,16 @@
 // 4 cm volume at 0.5 mm voxels (400 x 200 x 80 = 6.4 M voxels) over a skin-
 // like patch (a 15 cm radius sphere) scanned at 25 cm by a 640 x 480
 // camera. Per keyframe: CPU integration, meshing, one imaging-frame
-// projection; where a device is present, the CUDA integration (kernel alone
-// and with the volume's transfers), the GPU's active cells (with transfers)
-// and the CPU meshing of those cells only. Prints, asserts nothing.
+// projection; where a device is present, the CUDA integration of a host
+// volume (kernel alone, and with the volume's transfers), and the volume
+// resident on the device (CudaSurfaceVolume): its integration (the depth's
+// upload and the kernel) and its meshing (the mesh's download included),
+// whose faces are checked against the CPU's. Prints, asserts nothing.
 //   hapi_surface_bench [keyframes=8]
 #include "hapi_surface/mesh_extraction.hpp"
 #include "hapi_surface/surface_values.hpp"
 #ifdef HAPI_SURFACE_WITH_CUDA
+#include "hapi_surface/cuda/surface_volume_cuda.hpp"
 #include "hapi_surface/cuda/tsdf_cuda.hpp"
 #endif
 
@@ -45,12 +48,13 @@ int main(int argc, char** argv) {
   std::printf("CUDA: %s\n", info.c_str());
   TsdfVolume on_gpu(grid, s);
   CudaTsdfIntegrator cuda;
-  CudaActiveCells cells;
+  CudaSurfaceVolume resident;
+  const bool resident_ok = gpu && resident.upload(TsdfVolume(grid, s)) == SurfaceStatus::kOk;
 #else
   std::printf("CUDA: not built\n");
 #endif
-  std::printf("%3s %12s %10s %10s %8s %8s %12s %12s %10s %12s\n", "kf", "integrate_ms", "mesh_ms", "project_ms",
-              "faces", "values", "gpu_kernel", "gpu_total", "gpu_cells", "mesh_cells_ms");
+  std::printf("%3s %12s %10s %10s %8s %8s %12s %12s %12s %12s %12s\n", "kf", "integrate_ms", "mesh_ms", "project_ms",
+              "faces", "values", "gpu_kernel", "gpu_total", "res_int_ms", "res_mesh_ms", "res_sum_ms");
   for (int k = 0; k < keyframes; ++k) {
     DepthFrame f;
     f.camera = test::testCamera();
@@ -67,23 +71,25 @@ int main(int argc, char** argv) {
     t0 = std::chrono::steady_clock::now();
     const ProjectionResult r = values.addFrame(cpu, mesh, image, f.camera, f.T_world_camera);
     const double t_proj = msSince(t0);
-    double g_kernel = -1, g_total = -1, g_cells = -1, t_mesh_cells = -1;
+    double g_kernel = -1, g_total = -1, r_int = -1, r_mesh = -1;
 #ifdef HAPI_SURFACE_WITH_CUDA
     if (gpu && cuda.integrate(&on_gpu, f) == SurfaceStatus::kOk) {
       g_kernel = cuda.lastKernelMs();
       g_total = cuda.lastTotalMs();
     }
-    std::vector<std::uint8_t> active;
-    if (gpu && cells.find(cpu, &active) == SurfaceStatus::kOk) {
-      g_cells = cells.lastTotalMs();
-      t0 = std::chrono::steady_clock::now();
-      const Mesh same = extractMesh(cpu, &active);
-      t_mesh_cells = msSince(t0);
-      if (same.faces != mesh.faces) std::printf("the mesh of the active cells differs\n");
+    Mesh on_device;
+    if (resident_ok && resident.integrate(f) == SurfaceStatus::kOk &&
+        resident.extractMesh(&on_device) == SurfaceStatus::kOk) {
+      r_int = resident.lastIntegrateMs();
+      r_mesh = resident.lastMeshMs();
+      if (on_device.faces.size() != mesh.faces.size() || on_device.vertices.size() != mesh.vertices.size())
+        std::printf("the device's mesh differs: %zu faces, %zu vertices\n", on_device.faces.size(),
+                    on_device.vertices.size());
     }
 #endif
-    std::printf("%3d %12.1f %10.1f %10.1f %8zu %8zu %12.3f %12.3f %10.3f %12.1f\n", k, t_int, t_mesh, t_proj,
-                mesh.faces.size(), r.voxels_updated, g_kernel, g_total, g_cells, t_mesh_cells);
+    std::printf("%3d %12.1f %10.1f %10.1f %8zu %8zu %12.3f %12.3f %12.3f %12.3f %12.3f\n", k, t_int, t_mesh, t_proj,
+                mesh.faces.size(), r.voxels_updated, g_kernel, g_total, r_int, r_mesh,
+                r_int >= 0 ? r_int + r_mesh : -1.0);
   }
   return 0;
 }

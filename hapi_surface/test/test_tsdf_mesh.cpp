@@ -185,35 +185,6 @@ TEST(TsdfMesh, KeyframesOnlyAfterMotionOrTime) {
   EXPECT_EQ(m.keyframes().size(), 3u);
 }
 
-}  // namespace
-}  // namespace hapi_surface
-
-namespace hapi_surface {
-namespace {
-
-// The active-cell list (as the GPU makes it) restricts the scan and leaves
-// the mesh unchanged; cells marked 0 are not meshed.
-TEST(TsdfMesh, ActiveCellsGiveTheSameMesh) {
-  const Eigen::Vector3d c(0, 0, 0.25);
-  test::Scene scene;
-  scene.addSphere(c, 0.02);
-  const TsdfVolume vol = fuse(scene, {test::lookAt({0, 0, 0}, c)}, c, smallVolume());
-  const VoxelGrid& g = vol.grid();
-  const CubeOffsets off = cubeOffsets(g.dims.x(), g.dims.y());
-  std::vector<std::uint8_t> active(g.size(), 0);
-  for (int k = 0; k + 1 < g.dims.z(); ++k)
-    for (int j = 0; j + 1 < g.dims.y(); ++j)
-      for (int i = 0; i + 1 < g.dims.x(); ++i) {
-        const auto idx = static_cast<unsigned int>(g.index(i, j, k));
-        active[idx] = cubeActive(vol.tsdf().data(), vol.weight().data(), idx, off, 1.f);
-      }
-  const Mesh all = extractMesh(vol), listed = extractMesh(vol, &active);
-  ASSERT_GT(all.faces.size(), 1000u);
-  EXPECT_EQ(listed.faces, all.faces);
-  EXPECT_EQ(listed.vertices, all.vertices);
-  const std::vector<std::uint8_t> none(g.size(), 0);
-  EXPECT_TRUE(extractMesh(vol, &none).empty());
-}
 
 }  // namespace
 }  // namespace hapi_surface

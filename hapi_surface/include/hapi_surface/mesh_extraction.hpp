@@ -17,9 +17,7 @@
 
 namespace hapi_surface {
 
-// active_cells (optional, one byte per voxel: the GPU's cubeActive() of the
-// cube at that corner 0, CudaActiveCells) skips the cubes marked 0; the
-// mesh is the same with or without it.
-Mesh extractMesh(const TsdfVolume& volume, const std::vector<std::uint8_t>* active_cells = nullptr);
+// The CUDA mesher (CudaSurfaceVolume::extractMesh) gives the same mesh.
+Mesh extractMesh(const TsdfVolume& volume);
 
 }  // namespace hapi_surface

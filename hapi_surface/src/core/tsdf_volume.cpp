@@ -1,5 +1,7 @@
 #include "hapi_surface/tsdf_volume.hpp"
 
+#include "hapi_surface/marching_tetrahedra.hpp"
+
 #include <cmath>
 
 namespace hapi_surface {
@@ -81,16 +83,8 @@ SurfaceStatus TsdfVolume::integrate(const DepthFrame& frame) {
 Eigen::Vector3f TsdfVolume::gradient(std::size_t g) const {
   const Eigen::Vector3i c = grid_.coords(g);
   Eigen::Vector3f grad;
-  for (int a = 0; a < 3; ++a) {
-    Eigen::Vector3i lo = c, hi = c;
-    if (c[a] > 0) lo[a] -= 1;
-    if (c[a] + 1 < grid_.dims[a]) hi[a] += 1;
-    std::size_t il = grid_.index(lo.x(), lo.y(), lo.z()), ih = grid_.index(hi.x(), hi.y(), hi.z());
-    if (weight_[il] <= 0.f) lo = c, il = g;
-    if (weight_[ih] <= 0.f) hi = c, ih = g;
-    const int span = hi[a] - lo[a];
-    grad[a] = span > 0 ? (tsdf_[ih] - tsdf_[il]) / static_cast<float>(span) : 0.f;
-  }
+  tsdfGradient(tsdf_.data(), weight_.data(), grid_.dims.x(), grid_.dims.y(), grid_.dims.z(), c.x(), c.y(), c.z(),
+               grad.data());
   return grad;
 }
 

@@ -9,6 +9,7 @@
 #include "hapi_surface/ply_io.hpp"
 #include "hapi_surface/textured_obj.hpp"
 #ifdef HAPI_SURFACE_WITH_CUDA
+#include "hapi_surface/cuda/surface_volume_cuda.hpp"
 #include "hapi_surface/cuda/tsdf_cuda.hpp"
 #endif
 
@@ -47,7 +48,7 @@ void SurfaceNodelet::onInit() {
   std::string gpu;
   if (params_.use_cuda && surfaceCudaAvailable(&gpu)) {
     cuda_ = std::make_unique<CudaTsdfIntegrator>();
-    cuda_cells_ = std::make_unique<CudaActiveCells>();
+    cuda_mesher_ = std::make_unique<CudaSurfaceVolume>();
     stats_.on_gpu = true;
     NODELET_INFO("SurfaceNodelet: TSDF integration on %s", gpu.c_str());
   }
@@ -109,8 +110,9 @@ void SurfaceNodelet::resetMapper() {
       return st == SurfaceStatus::kDeviceError ? v->integrate(f) : st;
     });
     mapper_->setMesher([this](const TsdfVolume& v) {
-      std::vector<std::uint8_t> active;
-      return cuda_cells_->find(v, &active) == SurfaceStatus::kOk ? extractMesh(v, &active) : extractMesh(v);
+      Mesh m;
+      const bool ok = cuda_mesher_->upload(v) == SurfaceStatus::kOk && cuda_mesher_->extractMesh(&m) == SurfaceStatus::kOk;
+      return ok ? m : extractMesh(v);
     });
   }
 #endif

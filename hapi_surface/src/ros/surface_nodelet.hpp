@@ -51,7 +51,7 @@
 namespace hapi_surface {
 
 class CudaTsdfIntegrator;
-class CudaActiveCells;
+class CudaSurfaceVolume;
 
 class SurfaceNodelet : public nodelet::Nodelet {
  public:
@@ -95,7 +95,7 @@ class SurfaceNodelet : public nodelet::Nodelet {
   std::unique_ptr<SurfaceMapper> mapper_;
   std::unique_ptr<hapi_nodelet_kit::StampGuard> depth_guard_;
   std::unique_ptr<CudaTsdfIntegrator> cuda_;
-  std::unique_ptr<CudaActiveCells> cuda_cells_;
+  std::unique_ptr<CudaSurfaceVolume> cuda_mesher_;
   std::optional<PinholeCamera> depth_camera_, imaging_camera_;
   std::deque<sensor_msgs::ImageConstPtr> confidence_;
   std::map<std::uint64_t, Eigen::Isometry3d> last_path_;  // stamp (ns) -> pose

@@ -1,7 +1,9 @@
 // The CUDA TSDF integration gives the CPU's volume (same per-voxel update,
 // tsdf_math.hpp, no FMA either side): weights equal, TSDF values equal to
 // the last bit, over several frames with and without per-pixel weights. The
-// GPU's active cells give the CPU's mesh.
+// device-resident volume
+// integrates and meshes as the CPU does, to the last bit.
+#include "hapi_surface/cuda/surface_volume_cuda.hpp"
 #include "hapi_surface/cuda/tsdf_cuda.hpp"
 #include "hapi_surface/mesh_extraction.hpp"
 
@@ -11,6 +13,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <unordered_map>
 
 namespace hapi_surface {
 namespace {
@@ -49,19 +53,6 @@ TEST(TsdfCuda, SameVolumeAsCpu) {
   EXPECT_GT(cpu.observedVoxels(), 100000u);
   EXPECT_EQ(differ, 0u);
 
-  // Meshing with the GPU's active cells: the same mesh.
-  CudaActiveCells cells;
-  std::vector<std::uint8_t> active;
-  ASSERT_EQ(cells.find(gpu, &active), SurfaceStatus::kOk);
-  std::size_t n_active = 0;
-  for (std::uint8_t a : active) n_active += a;
-  const Mesh a = extractMesh(gpu), b = extractMesh(gpu, &active);
-  std::printf("%zu active cells, %zu faces\n", n_active, a.faces.size());
-  EXPECT_GT(n_active, 1000u);
-  EXPECT_LT(n_active, active.size() / 10);
-  ASSERT_GT(a.faces.size(), 1000u);
-  EXPECT_EQ(a.faces, b.faces);
-  EXPECT_EQ(a.vertices, b.vertices);
 }
 
 TEST(TsdfCuda, BadFrameChangesNothing) {
@@ -77,6 +68,84 @@ TEST(TsdfCuda, BadFrameChangesNothing) {
   CudaTsdfIntegrator cuda;
   EXPECT_EQ(cuda.integrate(&v, f), SurfaceStatus::kSizeMismatch);
   EXPECT_EQ(v.observedVoxels(), 0u);
+}
+
+// A vertex is named by its grid edge: the CPU numbers vertices by first
+// use, the GPU by edge.
+std::uint64_t edgeKey(const Mesh& m, std::int32_t v) {
+  return (static_cast<std::uint64_t>(m.vertex_edges[v][0]) << 32) | m.vertex_edges[v][1];
+}
+
+TEST(TsdfCuda, ResidentVolumeIntegratesAndMeshesAsTheCpu) {
+  std::string info;
+  if (!surfaceCudaAvailable(&info)) HAPI_SKIP_WITHOUT_GPU("no CUDA device: " + info);
+  const SurfaceSettings s = test::volumeOf(0.06, 0.06, 0.03);
+  const Eigen::Vector3d c(0, 0, 0.25);
+  test::Scene scene;
+  scene.addSphere(c + Eigen::Vector3d(0, 0, 0.01), 0.02);
+  scene.addPlane(Eigen::Vector3d(0.1, 0, 1).normalized(), 0.262);
+  const VoxelGrid grid = VoxelGrid::centredAt(c, s);
+  TsdfVolume cpu(grid, s), back(grid, s);
+  CudaSurfaceVolume gpu;
+  Mesh m;
+  EXPECT_EQ(gpu.extractMesh(&m), SurfaceStatus::kNoVolume);
+  ASSERT_EQ(gpu.upload(cpu), SurfaceStatus::kOk);
+  ASSERT_EQ(gpu.extractMesh(&m), SurfaceStatus::kOk);
+  EXPECT_TRUE(m.empty());  // never observed: no surface
+  for (int i = 0; i < 4; ++i) {
+    DepthFrame f;
+    f.camera = test::testCamera();
+    f.T_world_camera = test::lookAt(Eigen::Vector3d(0.01 * i, 0.005 * i, 0), c);
+    f.depth = scene.depth(f.camera, f.T_world_camera);
+    if (i % 2 == 1) {
+      f.weight = f.depth;
+      for (std::size_t p = 0; p < f.weight.data.size(); ++p) f.weight.data[p] = 0.5f + (p % 7) * 0.25f;
+    }
+    ASSERT_EQ(cpu.integrate(f), SurfaceStatus::kOk);
+    ASSERT_EQ(gpu.integrate(f), SurfaceStatus::kOk);
+  }
+  ASSERT_EQ(gpu.download(&back), SurfaceStatus::kOk);
+  EXPECT_EQ(back.tsdf(), cpu.tsdf());
+  EXPECT_EQ(back.weight(), cpu.weight());
+
+  const Mesh a = extractMesh(cpu);
+  ASSERT_EQ(gpu.extractMesh(&m), SurfaceStatus::kOk);
+  std::printf("%zu faces, %zu vertices (CPU); %zu, %zu (GPU); %.3f ms\n", a.faces.size(), a.vertices.size(),
+              m.faces.size(), m.vertices.size(), gpu.lastMeshMs());
+  ASSERT_GT(a.faces.size(), 1000u);
+  ASSERT_EQ(m.faces.size(), a.faces.size());
+  ASSERT_EQ(m.vertices.size(), a.vertices.size());
+  std::unordered_map<std::uint64_t, std::int32_t> cpu_vertex;
+  for (std::size_t v = 0; v < a.vertices.size(); ++v) cpu_vertex[edgeKey(a, static_cast<std::int32_t>(v))] = v;
+  std::size_t vertices_differ = 0, faces_differ = 0;
+  for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+    const auto it = cpu_vertex.find(edgeKey(m, static_cast<std::int32_t>(v)));
+    if (it == cpu_vertex.end() || std::memcmp(m.vertices[v].data(), a.vertices[it->second].data(), 12) != 0 ||
+        std::memcmp(m.normals[v].data(), a.normals[it->second].data(), 12) != 0 ||
+        m.vertex_t[v] != a.vertex_t[it->second])
+      ++vertices_differ;
+  }
+  for (std::size_t f = 0; f < a.faces.size(); ++f)
+    for (int e = 0; e < 3; ++e)
+      if (edgeKey(m, m.faces[f][e]) != edgeKey(a, a.faces[f][e])) {
+        ++faces_differ;
+        break;
+      }
+  EXPECT_EQ(vertices_differ, 0u);
+  EXPECT_EQ(faces_differ, 0u);
+
+  // A bad frame changes nothing on the device either.
+  DepthFrame bad;
+  bad.camera = test::testCamera();
+  bad.depth.width = 10;
+  bad.depth.height = 10;
+  bad.depth.data.assign(100, 0.25f);
+  EXPECT_EQ(gpu.integrate(bad), SurfaceStatus::kSizeMismatch);
+  TsdfVolume again(grid, s);
+  ASSERT_EQ(gpu.download(&again), SurfaceStatus::kOk);
+  EXPECT_EQ(again.tsdf(), cpu.tsdf());
+  TsdfVolume other(VoxelGrid::centredAt(c, test::volumeOf(0.02, 0.02, 0.02)), s);
+  EXPECT_EQ(gpu.download(&other), SurfaceStatus::kSizeMismatch);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
-// The TSDF integration on a CUDA device: the same per-voxel update as the
-// CPU (tsdf_math.hpp), one thread per voxel; and the cubes that take part in
-// the mesh, one thread per cube, for extractMesh() to visit only those. Declared without CUDA types so
-// that CPU code can call it; defined only where HAPI_SURFACE_WITH_CUDA.
+// The TSDF integration of a host volume on a CUDA device: the same
+// per-voxel update as the CPU (tsdf_math.hpp), one thread per voxel. The
+// volume kept on the device, with its meshing: surface_volume_cuda.hpp.
+// Declared without CUDA types so that CPU code can call it; defined only
+// where HAPI_SURFACE_WITH_CUDA.
 #pragma once
 
 #include "hapi_surface/tsdf_volume.hpp"
@@ -39,28 +40,6 @@ class CudaTsdfIntegrator {
   struct Buffers;
   std::unique_ptr<Buffers> buf_;
   float kernel_ms_ = 0, total_ms_ = 0;
-};
-
-// cubeActive() (tsdf_math.hpp) of every cube of a volume on the GPU.
-class CudaActiveCells {
- public:
-  CudaActiveCells();
-  ~CudaActiveCells();
-  CudaActiveCells(const CudaActiveCells&) = delete;
-  CudaActiveCells& operator=(const CudaActiveCells&) = delete;
-
-  // *active = one byte per voxel: 1 where the cube with that corner 0 is
-  // meshed (extractMesh's active_cells). Uploads the volume; kDeviceError
-  // when a CUDA call fails (*active untouched).
-  SurfaceStatus find(const TsdfVolume& volume, std::vector<std::uint8_t>* active);
-
-  // Milliseconds of the last call (upload, kernel, download), CUDA events.
-  float lastTotalMs() const { return total_ms_; }
-
- private:
-  struct Buffers;
-  std::unique_ptr<Buffers> buf_;
-  float total_ms_ = 0;
 };
 
 }  // namespace hapi_surface
