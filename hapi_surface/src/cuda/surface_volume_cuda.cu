@@ -146,15 +146,28 @@ struct CudaSurfaceVolume::Impl {
   DeviceFloats pos, normal, t;
   DeviceBuffer<std::int32_t> faces;
   DeviceBuffer<std::uint8_t> scan_temp;
-  cudaEvent_t start = nullptr, end = nullptr;
+  cudaEvent_t start = nullptr, kernels_end = nullptr, end = nullptr;
   Impl() {
     cudaEventCreate(&start);
+    cudaEventCreate(&kernels_end);
     cudaEventCreate(&end);
   }
   ~Impl() {
     cudaEventDestroy(start);
+    cudaEventDestroy(kernels_end);
     cudaEventDestroy(end);
   }
+  // The mesh's n_vtx vertices and n_tri faces into *out, reusing its
+  // vectors' memory: a mesh's 20 MB written into fresh pages costs more in
+  // page faults than the copy itself (docs/BENCHMARKS.md "Surface").
+  bool downloadMesh(std::size_t n_vtx, std::size_t n_tri, Mesh* out) {
+    return hapi_surface::download(&out->vertices, pos.ptr, n_vtx) &&
+           hapi_surface::download(&out->normals, normal.ptr, n_vtx) &&
+           hapi_surface::download(&out->vertex_t, t.ptr, n_vtx) &&
+           hapi_surface::download(&out->vertex_edges, edge_ends.ptr, n_vtx) &&
+           hapi_surface::download(&out->faces, faces.ptr, n_tri);
+  }
+
   // Exclusive prefix sum of n counts; *total = their sum.
   bool scan(const std::uint32_t* in, std::uint32_t* out, std::size_t n, std::uint32_t* total) {
     std::size_t bytes = 0;
@@ -259,19 +272,18 @@ SurfaceStatus CudaSurfaceVolume::extractMesh(Mesh* mesh) {
                                  m.normal.ptr, m.faces.ptr);
     ok = cudaGetLastError() == cudaSuccess;
   }
-  Mesh out;
-  ok = ok && hapi_surface::download(&out.vertices, m.pos.ptr, n_vtx) &&
-       hapi_surface::download(&out.normals, m.normal.ptr, n_vtx) &&
-       hapi_surface::download(&out.vertex_t, m.t.ptr, n_vtx) &&
-       hapi_surface::download(&out.vertex_edges, m.edge_ends.ptr, n_vtx) &&
-       hapi_surface::download(&out.faces, m.faces.ptr, n_tri);
+  // Into *mesh itself (its memory reused); a failure leaves it cleared.
+  mesh->values.clear();
+  mesh->value_weights.clear();
+  ok = ok && cudaEventRecord(m.kernels_end) == cudaSuccess && m.downloadMesh(n_vtx, n_tri, mesh);
   ok = ok && cudaEventRecord(m.end) == cudaSuccess && cudaEventSynchronize(m.end) == cudaSuccess;
   if (!ok) {
     cudaGetLastError();
+    *mesh = Mesh();
     return SurfaceStatus::kDeviceError;
   }
   cudaEventElapsedTime(&mesh_ms_, m.start, m.end);
-  *mesh = std::move(out);
+  cudaEventElapsedTime(&mesh_kernels_ms_, m.start, m.kernels_end);
   return SurfaceStatus::kOk;
 }
 

@@ -32,20 +32,22 @@ class CudaSurfaceVolume {
   // The device volume's values into *volume, which must have its grid
   // (kSizeMismatch otherwise; *volume is unchanged on any error).
   SurfaceStatus download(TsdfVolume* volume) const;
-  // extractMesh() of the device volume (no active-cell mask: every cube is
-  // tested there). *mesh is replaced on success.
+  // extractMesh() of the device volume into *mesh, whose memory is reused
+  // (pass the same mesh again to avoid the page faults of a fresh one); on
+  // an error *mesh is empty.
   SurfaceStatus extractMesh(Mesh* mesh);
 
-  // Milliseconds of the last integrate() (depth upload and kernel) and of
-  // the last extractMesh() (kernels, scans and the mesh's download), CUDA
-  // events.
+  // Milliseconds of the last integrate() (depth upload and kernel), of the
+  // last extractMesh() (kernels, scans and the mesh's download into *mesh)
+  // and of its kernels and scans alone, CUDA events.
   float lastIntegrateMs() const { return integrate_ms_; }
   float lastMeshMs() const { return mesh_ms_; }
+  float lastMeshKernelsMs() const { return mesh_kernels_ms_; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  float integrate_ms_ = 0, mesh_ms_ = 0;
+  float integrate_ms_ = 0, mesh_ms_ = 0, mesh_kernels_ms_ = 0;
 };
 
 }  // namespace hapi_surface
