@@ -24,8 +24,9 @@ ALLOWED = {
     "graph": {"backend", "covariance", "eskf"},
     "fastslam": {"backend"},
     "surface_motion": set(),
-    "map_file": set(),
-    "session": {"backend", "covariance", "eskf", "map_file"},
+    "keyframes": {"backend"},
+    "map_file": {"keyframes"},
+    "session": {"backend", "covariance", "eskf", "keyframes", "map_file"},
 }
 # The top: the factory and the settings that compose every part's table
 # (settings.hpp) sit above every folder; the rest of the top-level

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <random>
 #include <string>
@@ -57,6 +58,31 @@ MapData sampleMap(int n) {
     m.landmarks.push_back(l);
   }
   return m;
+}
+
+// Keyframes with distinct values in every field (the landmarks' 32-byte descriptors).
+void addKeyframes(MapData* m, int n, int points) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int k = 0; k < n; ++k) {
+    Keyframe kf;
+    kf.id = 50 + 7 * k;
+    kf.stamp = 1795600000.0 + 0.1 * k;
+    kf.T_map_cam.linear() = Eigen::AngleAxisd(0.3 * k + 0.1, Vec3(g(rng), g(rng), g(rng)).normalized()).toRotationMatrix();
+    kf.T_map_cam.translation() = Vec3(g(rng), g(rng), g(rng));
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::NullaryExpr([&] { return 1e-3 * g(rng); });
+    const Mat6 S = A * A.transpose() + 1e-8 * Mat6::Identity();
+    kf.pose_covariance = 0.5 * (S + S.transpose());
+    kf.descriptor_length = 32;
+    for (int i = 0; i < points; ++i) {
+      kf.points.emplace_back(g(rng), g(rng), 0.3 + 0.01 * g(rng));
+      Eigen::Matrix3d B = Eigen::Matrix3d::NullaryExpr([&] { return 1e-3 * g(rng); });
+      const Mat3 C = B * B.transpose() + 1e-9 * Mat3::Identity();
+      kf.point_covariances.push_back(0.5 * (C + C.transpose()));
+      for (int b = 0; b < 32; ++b) kf.descriptors.push_back(static_cast<uint8_t>(rng()));
+    }
+    m->keyframes.push_back(kf);
+  }
 }
 
 std::vector<uint8_t> encoded(const MapData& m) {
@@ -121,6 +147,18 @@ void expectSame(const MapData& a, const MapData& b) {
     EXPECT_EQ(a.landmarks[i].times_observed, b.landmarks[i].times_observed);
     EXPECT_EQ(a.landmarks[i].descriptor, b.landmarks[i].descriptor);
   }
+  ASSERT_EQ(a.keyframes.size(), b.keyframes.size());
+  for (std::size_t k = 0; k < a.keyframes.size(); ++k) {
+    const Keyframe &x = a.keyframes[k], &y = b.keyframes[k];
+    EXPECT_EQ(x.id, y.id);
+    EXPECT_EQ(x.stamp, y.stamp);
+    EXPECT_EQ(x.T_map_cam.matrix(), y.T_map_cam.matrix());
+    EXPECT_EQ(x.pose_covariance, y.pose_covariance);
+    EXPECT_EQ(x.descriptor_length, y.descriptor_length);
+    EXPECT_EQ(x.points, y.points);
+    EXPECT_EQ(x.point_covariances, y.point_covariances);
+    EXPECT_EQ(x.descriptors, y.descriptors);
+  }
 }
 
 TEST(MapFile, RoundTripIsExact) {
@@ -136,6 +174,53 @@ TEST(MapFile, RoundTripIsExact) {
   expectSame(m, back);
   // The file is its header, table and sections, nothing else.
   EXPECT_EQ(b.size(), sectionOffset(b, 2) + 1 + 4 + 8 + 300 * (kLandmarkFixedBytes + 32));
+}
+
+TEST(MapFile, KeyframesRoundTripExactlyAndAreOptional) {
+  MapData m = sampleMap(20);
+  addKeyframes(&m, 5, 40);
+  const std::vector<uint8_t> b = encoded(m);
+  MapData back;
+  MapError e = decodeMap(b.data(), b.size(), {}, &back);
+  ASSERT_FALSE(e) << e.message;
+  expectSame(m, back);
+  // Written as an optional section (flags 0) after the three required ones.
+  EXPECT_EQ(u64At(b, kHeaderBytes + 3 * kSectionEntryBytes) & 0xffffffffu, uint64_t{kSectionKeyframes});
+  EXPECT_EQ(u64At(b, kHeaderBytes + 3 * kSectionEntryBytes) >> 32, 0u);
+  EXPECT_EQ(b.size(), sectionOffset(b, 3) + 8 + 5 * (kKeyframeFixedBytes + 40 * (kKeyframePointFixedBytes + 32)));
+  // Every truncation of the keyframes section is refused.
+  for (std::size_t cut = sectionOffset(b, 3); cut < b.size(); cut += 97) {
+    std::vector<uint8_t> t(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(cut));
+    EXPECT_TRUE(decode(t)) << "cut at " << cut;
+  }
+}
+
+TEST(MapFile, BadKeyframesAreRefusedByReaderAndWriter) {
+  MapData good = sampleMap(3);
+  addKeyframes(&good, 2, 5);
+  auto refused = [&](const std::function<void(MapData*)>& spoil, MapFault fault) {
+    MapData m = good;
+    spoil(&m);
+    MapError e;
+    EXPECT_TRUE(encodeMap(m, &e).empty());
+    EXPECT_EQ(e.fault, fault) << e.message;
+  };
+  refused([](MapData* m) { m->keyframes[1].id = 0; }, MapFault::kBadValue);
+  refused([](MapData* m) { m->keyframes[1].id = m->keyframes[0].id; }, MapFault::kBadValue);
+  refused([](MapData* m) { m->keyframes[0].T_map_cam.linear() *= 1.01; }, MapFault::kBadValue);
+  refused([](MapData* m) { m->keyframes[0].points[2].x() = std::nan(""); }, MapFault::kNotFinite);
+  refused([](MapData* m) { m->keyframes[0].pose_covariance(0, 0) = -1.0; }, MapFault::kCovarianceNotPd);
+  refused([](MapData* m) { m->keyframes[1].point_covariances[4] = Mat3::Zero(); }, MapFault::kCovarianceNotPd);
+  refused([](MapData* m) { m->keyframes[1].descriptors.pop_back(); }, MapFault::kDescriptorType);
+  // The reader's own copy of the rules: a NaN written into the first
+  // keyframe's first point.
+  std::vector<uint8_t> b = encoded(good);
+  putF64(&b, sectionOffset(b, 3) + 8 + kKeyframeFixedBytes, std::nan(""));
+  EXPECT_EQ(decode(b).fault, MapFault::kNotFinite);
+  // A point count larger than the section holds.
+  b = encoded(good);
+  putU32(&b, sectionOffset(b, 3) + 8 + kKeyframeFixedBytes - 4, 1000000);
+  EXPECT_EQ(decode(b).fault, MapFault::kBadSize);
 }
 
 TEST(MapFile, ExtremeCovariancesComeBackBitForBit) {

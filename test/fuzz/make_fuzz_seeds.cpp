@@ -280,8 +280,9 @@ void surfaceInput(const std::string& dir) {
 }
 
 
-// A saved landmark map (hapi_eskf/map_file): three landmarks with an IMU, an
-// empty map without one, and a near miss (a NaN in a covariance).
+// A saved landmark map (hapi_eskf/map_file): three landmarks with an IMU,
+// the same with two keyframes, an empty map without one, and a near miss (a
+// NaN in a covariance).
 void mapFile(const std::string& dir) {
   using namespace hapi_eskf::map_file;
   MapData m;
@@ -313,6 +314,23 @@ void mapFile(const std::string& dir) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::memcpy(b.data() + last_zz, &nan, sizeof(nan));
   write(dir, "seed_nan_covariance", b);
+  // Two keyframes of two points each (the optional keyframes section).
+  for (int k = 0; k < 2; ++k) {
+    hapi_eskf::Keyframe kf;
+    kf.id = 1 + k;
+    kf.stamp = 1795600000.0 + 0.1 * k;
+    kf.T_map_cam.translation() = Eigen::Vector3d(0.01 * k, 0.0, 0.0);
+    kf.pose_covariance = hapi_eskf::Mat6::Identity() * 1e-6;
+    kf.descriptor_length = 32;
+    for (int i = 0; i < 2; ++i) {
+      kf.points.emplace_back(0.01 * i, -0.02, 0.25);
+      kf.point_covariances.push_back(Eigen::Vector3d(1e-8, 1e-8, 4e-7).asDiagonal());
+      kf.descriptors.insert(kf.descriptors.end(), 32, static_cast<std::uint8_t>(0x5a + i));
+    }
+    m.keyframes.push_back(kf);
+  }
+  write(dir, "seed_two_keyframes", encodeMap(m, &error));
+  m.keyframes.clear();
   m.landmarks.clear();
   m.gravity_direction.setZero();
   m.calibration.has_imu = false;

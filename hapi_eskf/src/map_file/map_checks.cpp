@@ -15,6 +15,20 @@ namespace {
 
 std::string at(std::size_t index) { return "landmark " + std::to_string(index); }
 
+// Symmetric (to 1e-9 of its largest diagonal) and positive definite with a
+// smallest Cholesky pivot above 1e-9 of that diagonal's square root.
+template <int N>
+bool symmetricPositiveDefinite(const Eigen::Matrix<double, N, N>& C) {
+  const double scale = C.diagonal().cwiseAbs().maxCoeff();
+  const Eigen::LLT<Eigen::Matrix<double, N, N>> llt(C);
+  return scale > 0 && (C - C.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale && llt.info() == Eigen::Success &&
+         llt.matrixLLT().diagonal().minCoeff() > 1e-9 * std::sqrt(scale);
+}
+
+bool isRotation(const Mat3& R) {
+  return (R.transpose() * R - Mat3::Identity()).norm() <= 1e-6 && R.determinant() > 0;
+}
+
 bool relativelyDifferent(double a, double b) {
   return std::abs(a - b) > kCalibrationTolerance * std::max(std::abs(a), std::abs(b));
 }
@@ -51,12 +65,31 @@ MapError checkLandmark(const MapLandmark& l, uint32_t descriptor_length, std::si
   if (l.descriptor.size() != descriptor_length)
     return mapError(MapFault::kDescriptorType, at(index) + " descriptor of " + std::to_string(l.descriptor.size()) +
                                                    " bytes, map's length " + std::to_string(descriptor_length));
-  const Mat3& C = l.covariance;
-  const double scale = C.diagonal().cwiseAbs().maxCoeff();
-  const Eigen::LLT<Mat3> llt(C);
-  if (!(scale > 0) || (C - C.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale || llt.info() != Eigen::Success ||
-      !(llt.matrixLLT().diagonal().minCoeff() > 1e-9 * std::sqrt(scale)))
+  if (!symmetricPositiveDefinite(l.covariance))
     return mapError(MapFault::kCovarianceNotPd, at(index) + " covariance is not symmetric positive definite");
+  return {};
+}
+
+MapError checkKeyframe(const Keyframe& k, uint32_t descriptor_length, std::size_t index) {
+  const std::string name = "keyframe " + std::to_string(index);
+  if (k.id == 0) return mapError(MapFault::kBadValue, name + " has id 0");
+  if (!k.T_map_cam.matrix().allFinite() || !k.pose_covariance.allFinite() || !std::isfinite(k.stamp))
+    return mapError(MapFault::kNotFinite, name + " pose, covariance or stamp");
+  if (!isRotation(k.T_map_cam.linear())) return mapError(MapFault::kBadValue, name + " R_map_cam is not a rotation");
+  if (!symmetricPositiveDefinite(k.pose_covariance))
+    return mapError(MapFault::kCovarianceNotPd, name + " pose covariance is not symmetric positive definite");
+  if (k.descriptor_length != static_cast<int>(descriptor_length) || k.point_covariances.size() != k.size() ||
+      k.descriptors.size() != k.size() * descriptor_length)
+    return mapError(MapFault::kDescriptorType, name + " has descriptors of " + std::to_string(k.descriptor_length) +
+                                                   " bytes or arrays of other sizes; the map's length " +
+                                                   std::to_string(descriptor_length));
+  for (std::size_t i = 0; i < k.size(); ++i) {
+    if (!k.points[i].allFinite() || !k.point_covariances[i].allFinite())
+      return mapError(MapFault::kNotFinite, name + " point " + std::to_string(i));
+    if (!symmetricPositiveDefinite(k.point_covariances[i]))
+      return mapError(MapFault::kCovarianceNotPd,
+                      name + " point " + std::to_string(i) + " covariance is not symmetric positive definite");
+  }
   return {};
 }
 
@@ -80,6 +113,13 @@ MapError checkMapData(const MapData& map) {
     if (MapError e = checkLandmark(map.landmarks[i], map.descriptor_length, i)) return e;
     if (!ids.insert(map.landmarks[i].id).second)
       return mapError(MapFault::kBadValue, at(i) + " repeats id " + std::to_string(map.landmarks[i].id));
+  }
+  ids.clear();
+  for (std::size_t i = 0; i < map.keyframes.size(); ++i) {
+    if (MapError e = checkKeyframe(map.keyframes[i], map.descriptor_length, i)) return e;
+    if (!ids.insert(map.keyframes[i].id).second)
+      return mapError(MapFault::kBadValue,
+                      "keyframe " + std::to_string(i) + " repeats id " + std::to_string(map.keyframes[i].id));
   }
   return {};
 }

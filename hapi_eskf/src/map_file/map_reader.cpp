@@ -55,7 +55,7 @@ MapError readTable(const uint8_t* data, std::size_t size, std::vector<Section>* 
       return mapError(MapFault::kTruncated, sectionName(s.type) + " ends past the file's " +
                                                 std::to_string(size) + " bytes");
     end_of_previous = s.offset + s.size;
-    const bool known = s.type >= kSectionMeta && s.type <= kSectionLandmarks;
+    const bool known = s.type >= kSectionMeta && s.type <= kSectionKeyframes;
     if (!known && (s.flags & kSectionRequired))
       return mapError(MapFault::kSectionTable, "required " + sectionName(s.type) + " unknown to this reader");
     if (!known) continue;  // a later version's optional section
@@ -93,6 +93,17 @@ MapError readCalibration(ByteReader r, MapCalibration* c) {
   return {};
 }
 
+template <int N>
+bool readUpperTriangle(ByteReader* r, Eigen::Matrix<double, N, N>* C) {
+  for (int row = 0; row < N; ++row)
+    for (int k = row; k < N; ++k) {
+      double v;
+      if (!r->f64(&v)) return false;
+      (*C)(row, k) = (*C)(k, row) = v;
+    }
+  return true;
+}
+
 MapError readLandmarks(ByteReader r, MapData* map) {
   uint64_t count;
   if (!r.u8(&map->descriptor_type) || !r.u32(&map->descriptor_length) || !r.u64(&count))
@@ -107,16 +118,49 @@ MapError readLandmarks(ByteReader r, MapData* map) {
                                             " bytes in " + std::to_string(r.left()) + " bytes");
   map->landmarks.resize(count);
   for (MapLandmark& l : map->landmarks) {
-    double upper[6];
     bool ok = r.u64(&l.id);
     for (int i = 0; i < 3; ++i) ok = ok && r.f64(&l.position[i]);
-    for (double& v : upper) ok = ok && r.f64(&v);
+    ok = ok && readUpperTriangle(&r, &l.covariance);
     ok = ok && r.u32(&l.times_observed);
     l.descriptor.resize(map->descriptor_length);
     ok = ok && r.raw(l.descriptor.data(), l.descriptor.size());
     if (!ok) return shortSection(kSectionLandmarks);  // unreachable after the size check
-    l.covariance << upper[0], upper[1], upper[2], upper[1], upper[3], upper[4], upper[2], upper[4], upper[5];
   }
+  return {};
+}
+
+// After the landmarks: the points' descriptors have the landmarks' length.
+MapError readKeyframes(ByteReader r, MapData* map) {
+  uint64_t count;
+  if (!r.u64(&count)) return shortSection(kSectionKeyframes);
+  if (count > r.left() / kKeyframeFixedBytes)
+    return mapError(MapFault::kBadSize, std::to_string(count) + " keyframes in " + std::to_string(r.left()) + " bytes");
+  const uint64_t point_bytes = kKeyframePointFixedBytes + uint64_t(map->descriptor_length);
+  map->keyframes.resize(count);
+  for (Keyframe& k : map->keyframes) {
+    Mat3 R;
+    Vec3 p;
+    uint32_t n = 0;
+    bool ok = r.u64(&k.id) && r.f64(&k.stamp);
+    for (int i = 0; i < 9; ++i) ok = ok && r.f64(&R(i / 3, i % 3));
+    for (int i = 0; i < 3; ++i) ok = ok && r.f64(&p[i]);
+    ok = ok && readUpperTriangle(&r, &k.pose_covariance) && r.u32(&n);
+    if (!ok) return shortSection(kSectionKeyframes);
+    if (n > r.left() / point_bytes) return shortSection(kSectionKeyframes);
+    k.T_map_cam.linear() = R;
+    k.T_map_cam.translation() = p;
+    k.descriptor_length = static_cast<int>(map->descriptor_length);
+    k.points.resize(n);
+    k.point_covariances.resize(n);
+    k.descriptors.resize(std::size_t{n} * map->descriptor_length);
+    for (uint32_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) ok = ok && r.f64(&k.points[i][a]);
+      ok = ok && readUpperTriangle(&r, &k.point_covariances[i]) &&
+           r.raw(k.descriptors.data() + std::size_t{i} * map->descriptor_length, map->descriptor_length);
+    }
+    if (!ok) return shortSection(kSectionKeyframes);  // unreachable after the size check
+  }
+  if (r.left() != 0) return mapError(MapFault::kBadSize, "keyframes section has trailing bytes");
   return {};
 }
 
@@ -126,6 +170,7 @@ MapError readSection(const uint8_t* data, const Section& s, MapData* map) {
     case kSectionMeta: return readMeta(r, map);
     case kSectionCalibration: return readCalibration(r, &map->calibration);
     case kSectionLandmarks: return readLandmarks(r, map);
+    case kSectionKeyframes: return readKeyframes(r, map);
     default: return {};
   }
 }
@@ -139,6 +184,8 @@ MapError decodeMap(const uint8_t* data, std::size_t size, const MapExpectation& 
     const bool present = std::any_of(sections.begin(), sections.end(), [&](const Section& s) { return s.type == type; });
     if (!present) return mapError(MapFault::kMissingSection, sectionName(type) + " absent");
   }
+  // By type: the keyframes need the landmarks' descriptor length.
+  std::sort(sections.begin(), sections.end(), [](const Section& a, const Section& b) { return a.type < b.type; });
   MapData map;
   for (const Section& s : sections)
     if (MapError e = readSection(data, s, &map)) return e;

@@ -22,7 +22,11 @@ constexpr double kExtrinsicTranslationTolerance = 5e-3;
 
 MapError checkCalibration(const MapCalibration& c);
 MapError checkLandmark(const MapLandmark& l, uint32_t descriptor_length, std::size_t index);
-// Everything of the map (the landmarks' ids unique among them).
+// A keyframe: id > 0, a rotation, finite numbers, positive definite
+// covariances, descriptors of the map's length.
+MapError checkKeyframe(const Keyframe& k, uint32_t descriptor_length, std::size_t index);
+// Everything of the map (the landmarks' ids unique among them, the
+// keyframes' among them).
 MapError checkMapData(const MapData& map);
 // kCalibrationMismatch naming the first field that differs.
 MapError checkSameCamera(const MapCalibration& map, const MapCalibration& running);

@@ -3,6 +3,7 @@
 // ROS-free; map_writer.hpp encodes it, map_reader.hpp decodes and checks it.
 #pragma once
 
+#include "hapi_eskf/keyframes/keyframe.hpp"
 #include "hapi_eskf/types.hpp"
 
 #include <cstdint>
@@ -48,6 +49,9 @@ struct MapData {
   uint8_t descriptor_type = kDescriptorOrb;
   uint32_t descriptor_length = 32;
   std::vector<MapLandmark> landmarks;
+  // Keyframes for place recognition (optional section), their descriptors
+  // of the landmarks' type and length.
+  std::vector<Keyframe> keyframes;
 };
 
 }  // namespace map_file

@@ -23,7 +23,7 @@ enum SectionType : uint32_t {
   kSectionMeta = 1,         // units, frame names, gravity direction, creation time
   kSectionCalibration = 2,  // MapCalibration
   kSectionLandmarks = 3,    // descriptor type/length, the landmarks
-  kSectionKeyframes = 4,    // reserved: pose, covariance, keypoints, descriptors
+  kSectionKeyframes = 4,    // optional: keyframes (pose, covariance, points, descriptors)
   kSectionSurface = 5,      // reserved: a surface mesh in the map frame
 };
 constexpr uint32_t kSectionRequired = 1u;
@@ -31,6 +31,13 @@ constexpr uint32_t kSectionRequired = 1u;
 // Bytes of one landmark record before its descriptor: id, position (3 f64),
 // upper triangle of the covariance (6 f64: xx xy xz yy yz zz), times observed.
 constexpr uint32_t kLandmarkFixedBytes = 8 + 3 * 8 + 6 * 8 + 4;
+// Bytes of one keyframe record before its points: id, stamp, R_map_cam (9
+// f64, row-major), p_map_cam (3 f64), upper triangle of the 6 x 6 pose
+// covariance (21 f64), point count (u32).
+constexpr uint32_t kKeyframeFixedBytes = 8 + 8 + 9 * 8 + 3 * 8 + 21 * 8 + 4;
+// Bytes of one keyframe point before its descriptor: position in the camera
+// frame (3 f64), upper triangle of its covariance (6 f64).
+constexpr uint32_t kKeyframePointFixedBytes = 3 * 8 + 6 * 8;
 
 }  // namespace map_file
 }  // namespace hapi_eskf
