@@ -22,8 +22,9 @@
 #      reset the filter cleanly (first pose of the new timeline at the
 #      origin, odometry continues, no filter error).
 # HAPI_SCENARIO=outage runs one other phase instead: the bag (longer than
-# the outage) plays once and HAPI_OUTAGE_AT s in (default 6) the link goes
-# down for HAPI_OUTAGE_LEN s (default 30) and comes back; outage_verdict.py
+# the outage) plays once and HAPI_OUTAGE_AT s (default 6) after the first
+# odometry the link goes down for HAPI_OUTAGE_LEN s (default 30) and comes
+# back; outage_verdict.py
 # judges it (odometry resumes, the back end relocalises, no backlog of old
 # frames, both managers' memory flat, the back end never restarted).
 # Results in $HAPI_RUN_DIR (default <ws>/reliability/two_hosts): phase*.json,
@@ -41,7 +42,7 @@ LINK="${HAPI_LINK:-auto}"             # auto | netem | tun | iptables (force one
 RESTART_AT="${HAPI_RESTART_AT:-10}"   # [s] into phase 2
 AFTER_RESTART="${HAPI_AFTER_RESTART:-25}"  # [s] phase 2 goes on after the restart command
 SCENARIO="${HAPI_SCENARIO:-phases}"    # phases | outage
-OUTAGE_AT="${HAPI_OUTAGE_AT:-6}"       # [s] after the player starts (outage scenario)
+OUTAGE_AT="${HAPI_OUTAGE_AT:-6}"       # [s] after the first odometry (outage scenario)
 OUTAGE_LEN="${HAPI_OUTAGE_LEN:-30}"    # [s] the link is down
 OUT="${HAPI_RUN_DIR:-$WS/reliability/two_hosts}"
 SFX="$$"                              # two concurrent runs never share a namespace
@@ -237,11 +238,19 @@ robot_manager_pid() { pgrep -f "__name:=robot_manager" | head -1; }
 if [ "$SCENARIO" = outage ]; then
   [ "$OUTAGE_AT" -lt "$BAG_LEN" ] || die "HAPI_OUTAGE_AT=$OUTAGE_AT s must be shorter than the bag ($BAG_LEN s)"
   ROBOT_MGR="$(robot_manager_pid)"
-  log "outage: the bag once, link down $OUTAGE_AT s after the player starts, for $OUTAGE_LEN s"
+  log "outage: the bag once, link down $OUTAGE_AT s after the first odometry, for $OUTAGE_LEN s"
   probe $((BAG_LEN + 60)) outage
   sleep 1
   play_bg
-  sleep $((2 + OUTAGE_AT))   # the player waits 2 s (-d 2) before its first frame
+  # The outage clock starts at the first odometry on the server, not at the
+  # player: the player's image connections are set up through the master
+  # across the lossy link, and one that a lost packet delays past the start
+  # of the outage is not made until after it (the front end then saw no
+  # frame at all and the run judged nothing).
+  has_odometry() { server timeout 2 rostopic echo -n 1 /eskf/odom; }
+  wait_for 20 "the first odometry on the server (the front end's image connections)" has_odometry
+  log "first odometry at $(now_rel "$PROBE_START") s"
+  sleep "$OUTAGE_AT"
   RSS=("$(rss_kib "$MGR_PID_START")" "$(rss_kib "$ROBOT_MGR")")
   DOWN_WALL="$(now_rel "$PROBE_START")"
   link_down
