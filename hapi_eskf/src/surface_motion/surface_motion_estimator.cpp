@@ -78,37 +78,40 @@ Eigen::Isometry3d SurfaceMotionEstimator::poseAt(double t) const {
   return interpolatePose(*(it - 1), *it, t);
 }
 
+template <typename F>
+void SurfaceMotionEstimator::forEachOdometryInterval(double t0, double t1, F&& f) const {
+  auto first = std::lower_bound(odom_.begin(), odom_.end(), t0,
+                                [](const CameraOdometry& o, double x) { return o.t < x; });
+  const std::size_t k0 = std::max<std::size_t>(1, static_cast<std::size_t>(first - odom_.begin()));
+  for (std::size_t k = k0; k < odom_.size() && odom_[k - 1].t < t1; ++k) {
+    const double a = std::max(odom_[k - 1].t, t0), b = std::min(odom_[k].t, t1);
+    if (b > a) f(odom_[k - 1], odom_[k], b - a);
+  }
+}
+
 Eigen::Isometry3d SurfaceMotionEstimator::motionBetween(double t0, double t1) const {
   // Each odometry interval [t_k-1, t_k] moves the camera by the mean of its
   // two twists; the part of it inside [t0, t1] is taken. The poses
   // themselves jump where the filter corrects them (each frame), the twist
   // only by the velocity's correction.
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  auto first = std::lower_bound(odom_.begin(), odom_.end(), t0,
-                                [](const CameraOdometry& o, double x) { return o.t < x; });
-  const std::size_t k0 = std::max<std::size_t>(1, static_cast<std::size_t>(first - odom_.begin()));
-  for (std::size_t k = k0; k < odom_.size() && odom_[k - 1].t < t1; ++k) {
-    const double a = std::max(odom_[k - 1].t, t0), b = std::min(odom_[k].t, t1);
-    if (b <= a) continue;
-    const Vec3 v = 0.5 * (odom_[k - 1].v + odom_[k].v), w = 0.5 * (odom_[k - 1].w + odom_[k].w);
+  forEachOdometryInterval(t0, t1, [&](const CameraOdometry& o0, const CameraOdometry& o1, double h) {
     Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
-    step.linear() = expSO3(w * (b - a));
-    step.translation() = v * (b - a);
+    step.linear() = expSO3(0.5 * (o0.w + o1.w) * h);
+    step.translation() = 0.5 * (o0.v + o1.v) * h;
     T = T * step;
-  }
+  });
   return T;
 }
 
 bool SurfaceMotionEstimator::meanTwist(double t0, double t1, Vec3* v, Vec3* w) const {
   Vec3 sv = Vec3::Zero(), sw = Vec3::Zero();
   double covered = 0;
-  for (std::size_t k = 1; k < odom_.size(); ++k) {
-    const double a = std::max(odom_[k - 1].t, t0), b = std::min(odom_[k].t, t1);
-    if (b <= a) continue;
-    sv += 0.5 * (odom_[k - 1].v + odom_[k].v) * (b - a);
-    sw += 0.5 * (odom_[k - 1].w + odom_[k].w) * (b - a);
-    covered += b - a;
-  }
+  forEachOdometryInterval(t0, t1, [&](const CameraOdometry& o0, const CameraOdometry& o1, double h) {
+    sv += 0.5 * (o0.v + o1.v) * h;
+    sw += 0.5 * (o0.w + o1.w) * h;
+    covered += h;
+  });
   if (covered <= 0) return false;
   *v = sv / covered;
   *w = sw / covered;

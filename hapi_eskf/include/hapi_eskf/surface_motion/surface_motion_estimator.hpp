@@ -104,6 +104,10 @@ class SurfaceMotionEstimator {
   // The camera's motion over [t0, t1] (T_c0_c1) from the odometry's twist,
   // integrated (docs/DESIGN.md "Surface motion", fusion).
   Eigen::Isometry3d motionBetween(double t0, double t1) const;
+  // f(sample k-1, sample k, h) for each odometry interval overlapping
+  // [t0, t1], h the length of the overlap (> 0), oldest first.
+  template <typename F>
+  void forEachOdometryInterval(double t0, double t1, F&& f) const;
   // The odometry's twist (v, w) averaged over [t0, t1] (trapezoid; over the
   // part the kept odometry covers); false when it covers none of it.
   bool meanTwist(double t0, double t1, Vec3* v, Vec3* w) const;
