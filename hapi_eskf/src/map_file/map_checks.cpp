@@ -25,6 +25,7 @@ bool symmetricPositiveDefinite(const Eigen::Matrix<double, N, N>& C) {
          llt.matrixLLT().diagonal().minCoeff() > 1e-9 * std::sqrt(scale);
 }
 
+// A rotation to 1e-6 in |R^T R - I| (the calibration's R_imu_cam, a keyframe's R_map_cam).
 bool isRotation(const Mat3& R) {
   return (R.transpose() * R - Mat3::Identity()).norm() <= 1e-6 && R.determinant() > 0;
 }
@@ -51,9 +52,7 @@ MapError checkCalibration(const MapCalibration& c) {
     return mapError(MapFault::kNotFinite, "calibration T_imu_cam");
   if (c.width == 0 || c.height == 0 || c.fx <= 0 || c.fy <= 0 || c.baseline <= 0)
     return mapError(MapFault::kBadValue, "calibration needs width, height, fx, fy and baseline > 0");
-  const double orthogonality = (c.imu_cam.R_imu_cam.transpose() * c.imu_cam.R_imu_cam - Mat3::Identity()).norm();
-  if (orthogonality > 1e-6 || c.imu_cam.R_imu_cam.determinant() < 0)
-    return mapError(MapFault::kBadValue, "calibration R_imu_cam is not a rotation");
+  if (!isRotation(c.imu_cam.R_imu_cam)) return mapError(MapFault::kBadValue, "calibration R_imu_cam is not a rotation");
   return {};
 }
 
