@@ -183,7 +183,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
   std::vector<int> cand_meas, cand_slot;
   for (int i = 0; i < n; ++i) {
     const DescriptorMatch& m = matches[i];
-    if (m.best_slot < 0 || m.best_distance > settings.max_hamming) continue;
+    if (!m.within(settings.max_hamming)) continue;
     // From here on the measurement resembles a pool landmark: unless it turns
     // out to be far from it (step 3, copy_chi2), adding it when it is not
     // used (ambiguous, gated out, lost a conflict) would put a second copy of
@@ -191,7 +191,7 @@ Status associate(const StereoFrame& frame, const PoseState& pose, const Mat6& ca
     // good, so every later observation would add yet another.
     a.may_add[i] = 0;
     // Ratio test on distances: the best must be clearly better than the runner-up.
-    if (m.second_slot >= 0 && !(m.best_distance < settings.match_ratio * m.second_distance)) continue;
+    if (!m.distinct(settings.match_ratio)) continue;
     cand_meas.push_back(i);
     cand_slot.push_back(m.best_slot);
   }

@@ -46,8 +46,7 @@ std::optional<KeyframeFit> KeyframeRelocaliser::fitTo(const StereoFrame& frame, 
   std::vector<Mat3> W, Cz;
   for (int i = 0; i < n; ++i) {
     const DescriptorMatch& m = matches[i];
-    if (m.best_slot < 0 || m.best_distance > s_.max_hamming) continue;
-    if (m.second_slot >= 0 && !(m.best_distance < s_.match_ratio * m.second_distance)) continue;
+    if (!m.within(s_.max_hamming) || !m.distinct(s_.match_ratio)) continue;
     X.push_back(kf.T_map_cam * kf.points[m.best_slot]);
     Z.push_back(frame.measurements[i].z);
     W.push_back(R_kf * kf.point_covariances[m.best_slot] * R_kf.transpose());

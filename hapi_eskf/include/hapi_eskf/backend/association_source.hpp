@@ -19,6 +19,11 @@ namespace hapi_eskf {
 struct DescriptorMatch {
   int best_slot = -1, best_distance = 1 << 30;
   int second_slot = -1, second_distance = 1 << 30;
+
+  // A best match at most max_hamming bits away.
+  bool within(int max_hamming) const { return best_slot >= 0 && best_distance <= max_hamming; }
+  // The ratio test: the best clearly better than the runner-up (or none).
+  bool distinct(double ratio) const { return second_slot < 0 || best_distance < ratio * second_distance; }
 };
 
 class AssociationSource {
