@@ -13,7 +13,6 @@
 #include "hapi_surface/surface_values.hpp"
 #ifdef HAPI_SURFACE_WITH_CUDA
 #include "hapi_surface/cuda/surface_volume_cuda.hpp"
-#include "hapi_surface/cuda/tsdf_cuda.hpp"
 #endif
 
 #include "synthetic_scene.hpp"
@@ -48,7 +47,7 @@ int main(int argc, char** argv) {
   const bool gpu = surfaceCudaAvailable(&info);
   std::printf("CUDA: %s\n", info.c_str());
   TsdfVolume on_gpu(grid, s);
-  CudaTsdfIntegrator cuda;
+  CudaSurfaceVolume cuda;  // a host volume's round trip
   CudaSurfaceVolume resident;
   const bool resident_ok = gpu && resident.upload(TsdfVolume(grid, s)) == SurfaceStatus::kOk;
   Mesh on_device;  // reused, as a node that keeps its mesh does
@@ -75,9 +74,9 @@ int main(int argc, char** argv) {
     const double t_proj = msSince(t0);
     double g_kernel = -1, g_total = -1, r_int = -1, r_mesh = -1, r_mesh_kernels = -1;
 #ifdef HAPI_SURFACE_WITH_CUDA
-    if (gpu && cuda.integrate(&on_gpu, f) == SurfaceStatus::kOk) {
-      g_kernel = cuda.lastKernelMs();
-      g_total = cuda.lastTotalMs();
+    if (gpu && cuda.integrateHost(&on_gpu, f) == SurfaceStatus::kOk) {
+      g_kernel = cuda.lastIntegrateKernelMs();
+      g_total = cuda.lastRoundTripMs();
     }
     if (resident_ok && resident.integrate(f) == SurfaceStatus::kOk &&
         resident.extractMesh(&on_device) == SurfaceStatus::kOk) {

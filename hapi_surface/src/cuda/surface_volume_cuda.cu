@@ -13,7 +13,9 @@
 
 #include <cub/device/device_scan.cuh>
 #include <cuda_runtime.h>
+#include <hapi_nodelet_kit/cuda_device_probe.hpp>
 
+#include <chrono>
 #include <cstdint>
 
 namespace hapi_surface {
@@ -146,14 +148,16 @@ struct CudaSurfaceVolume::Impl {
   DeviceFloats pos, normal, t;
   DeviceBuffer<std::int32_t> faces;
   DeviceBuffer<std::uint8_t> scan_temp;
-  cudaEvent_t start = nullptr, kernels_end = nullptr, end = nullptr;
+  cudaEvent_t start = nullptr, kernel_start = nullptr, kernels_end = nullptr, end = nullptr;
   Impl() {
     cudaEventCreate(&start);
+    cudaEventCreate(&kernel_start);
     cudaEventCreate(&kernels_end);
     cudaEventCreate(&end);
   }
   ~Impl() {
     cudaEventDestroy(start);
+    cudaEventDestroy(kernel_start);
     cudaEventDestroy(kernels_end);
     cudaEventDestroy(end);
   }
@@ -182,6 +186,8 @@ struct CudaSurfaceVolume::Impl {
     return true;
   }
 };
+
+bool surfaceCudaAvailable(std::string* info) { return hapi_nodelet_kit::cudaDeviceUsable(info); }
 
 CudaSurfaceVolume::CudaSurfaceVolume() : impl_(std::make_unique<Impl>()) {}
 CudaSurfaceVolume::~CudaSurfaceVolume() = default;
@@ -216,7 +222,8 @@ SurfaceStatus CudaSurfaceVolume::integrate(const DepthFrame& frame) {
             cudaMemcpy(m.depth.ptr, frame.depth.data.data(), bytes, cudaMemcpyHostToDevice) == cudaSuccess &&
             (!has_weight ||
              cudaMemcpy(m.pixel_weight.ptr, frame.weight.data.data(), bytes, cudaMemcpyHostToDevice) == cudaSuccess);
-  ok = ok && launchIntegrate(p, m.depth.ptr, has_weight ? m.pixel_weight.ptr : nullptr, m.tsdf.ptr, m.weight.ptr);
+  ok = ok && cudaEventRecord(m.kernel_start) == cudaSuccess &&
+       launchIntegrate(p, m.depth.ptr, has_weight ? m.pixel_weight.ptr : nullptr, m.tsdf.ptr, m.weight.ptr);
   ok = ok && cudaEventRecord(m.end) == cudaSuccess && cudaEventSynchronize(m.end) == cudaSuccess;
   if (!ok) {
     cudaGetLastError();
@@ -224,7 +231,20 @@ SurfaceStatus CudaSurfaceVolume::integrate(const DepthFrame& frame) {
     return SurfaceStatus::kDeviceError;
   }
   cudaEventElapsedTime(&integrate_ms_, m.start, m.end);
+  cudaEventElapsedTime(&integrate_kernel_ms_, m.kernel_start, m.end);
   return SurfaceStatus::kOk;
+}
+
+SurfaceStatus CudaSurfaceVolume::integrateHost(TsdfVolume* volume, const DepthFrame& frame) {
+  // A bad frame is refused before the volume goes up.
+  SurfaceStatus st = checkDepthFrame(frame, volume->settings());
+  if (st != SurfaceStatus::kOk) return st;
+  const auto t0 = std::chrono::steady_clock::now();
+  st = upload(*volume);
+  if (st == SurfaceStatus::kOk) st = integrate(frame);
+  if (st == SurfaceStatus::kOk) st = download(volume);
+  round_trip_ms_ = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return st;
 }
 
 SurfaceStatus CudaSurfaceVolume::download(TsdfVolume* volume) const {

@@ -10,7 +10,6 @@
 #include "hapi_surface/textured_obj.hpp"
 #ifdef HAPI_SURFACE_WITH_CUDA
 #include "hapi_surface/cuda/surface_volume_cuda.hpp"
-#include "hapi_surface/cuda/tsdf_cuda.hpp"
 #endif
 
 #include <pluginlib/class_list_macros.hpp>
@@ -47,8 +46,7 @@ void SurfaceNodelet::onInit() {
 #ifdef HAPI_SURFACE_WITH_CUDA
   std::string gpu;
   if (params_.use_cuda && surfaceCudaAvailable(&gpu)) {
-    cuda_ = std::make_unique<CudaTsdfIntegrator>();
-    cuda_mesher_ = std::make_unique<CudaSurfaceVolume>();
+    cuda_ = std::make_unique<CudaSurfaceVolume>();
     stats_.on_gpu = true;
     NODELET_INFO("SurfaceNodelet: TSDF integration on %s", gpu.c_str());
   }
@@ -106,12 +104,12 @@ void SurfaceNodelet::resetMapper() {
   if (cuda_) {
     // The CPU takes over what the GPU could not do (same result).
     mapper_->setIntegrator([this](TsdfVolume* v, const DepthFrame& f) {
-      const SurfaceStatus st = cuda_->integrate(v, f);
+      const SurfaceStatus st = cuda_->integrateHost(v, f);
       return st == SurfaceStatus::kDeviceError ? v->integrate(f) : st;
     });
     mapper_->setMesher([this](const TsdfVolume& v) {
       Mesh m;
-      const bool ok = cuda_mesher_->upload(v) == SurfaceStatus::kOk && cuda_mesher_->extractMesh(&m) == SurfaceStatus::kOk;
+      const bool ok = cuda_->upload(v) == SurfaceStatus::kOk && cuda_->extractMesh(&m) == SurfaceStatus::kOk;
       return ok ? m : extractMesh(v);
     });
   }

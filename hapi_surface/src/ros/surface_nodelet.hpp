@@ -50,7 +50,6 @@
 
 namespace hapi_surface {
 
-class CudaTsdfIntegrator;
 class CudaSurfaceVolume;
 
 class SurfaceNodelet : public nodelet::Nodelet {
@@ -94,8 +93,9 @@ class SurfaceNodelet : public nodelet::Nodelet {
   std::mutex mu_;
   std::unique_ptr<SurfaceMapper> mapper_;
   std::unique_ptr<hapi_nodelet_kit::StampGuard> depth_guard_;
-  std::unique_ptr<CudaTsdfIntegrator> cuda_;
-  std::unique_ptr<CudaSurfaceVolume> cuda_mesher_;
+  // The volume's device copy, used by the mapper's integrator and mesher
+  // (under mu_): each uploads the mapper's host volume, so the two stay one.
+  std::unique_ptr<CudaSurfaceVolume> cuda_;
   std::optional<PinholeCamera> depth_camera_, imaging_camera_;
   std::deque<sensor_msgs::ImageConstPtr> confidence_;
   std::map<std::uint64_t, Eigen::Isometry3d> last_path_;  // stamp (ns) -> pose

@@ -1,10 +1,9 @@
-// The CUDA TSDF integration gives the CPU's volume (same per-voxel update,
-// tsdf_math.hpp, no FMA either side): weights equal, TSDF values equal to
-// the last bit, over several frames with and without per-pixel weights. The
-// device-resident volume
-// integrates and meshes as the CPU does, to the last bit.
+// The CUDA TSDF integration of a host volume gives the CPU's volume (same
+// per-voxel update, tsdf_math.hpp, no FMA either side): weights equal, TSDF
+// values equal to the last bit, over several frames with and without
+// per-pixel weights. The device-resident volume integrates and meshes as
+// the CPU does, to the last bit.
 #include "hapi_surface/cuda/surface_volume_cuda.hpp"
-#include "hapi_surface/cuda/tsdf_cuda.hpp"
 #include "hapi_surface/mesh_extraction.hpp"
 
 #include "hapi_test/skip.hpp"
@@ -29,7 +28,7 @@ TEST(TsdfCuda, SameVolumeAsCpu) {
   scene.addSphere(c + Eigen::Vector3d(0, 0, 0.01), 0.02);
   scene.addPlane(Eigen::Vector3d(0.1, 0, 1).normalized(), 0.262);
   TsdfVolume cpu(VoxelGrid::centredAt(c, s), s), gpu(VoxelGrid::centredAt(c, s), s);
-  CudaTsdfIntegrator cuda;
+  CudaSurfaceVolume cuda;
   for (int i = 0; i < 4; ++i) {
     DepthFrame f;
     f.camera = test::testCamera();
@@ -40,7 +39,7 @@ TEST(TsdfCuda, SameVolumeAsCpu) {
       for (std::size_t p = 0; p < f.weight.data.size(); ++p) f.weight.data[p] = 0.5f + (p % 7) * 0.25f;
     }
     ASSERT_EQ(cpu.integrate(f), SurfaceStatus::kOk);
-    ASSERT_EQ(cuda.integrate(&gpu, f), SurfaceStatus::kOk);
+    ASSERT_EQ(cuda.integrateHost(&gpu, f), SurfaceStatus::kOk);
   }
   std::size_t differ = 0;
   float worst = 0;
@@ -65,8 +64,8 @@ TEST(TsdfCuda, BadFrameChangesNothing) {
   f.depth.width = 10;
   f.depth.height = 10;
   f.depth.data.assign(100, 0.25f);
-  CudaTsdfIntegrator cuda;
-  EXPECT_EQ(cuda.integrate(&v, f), SurfaceStatus::kSizeMismatch);
+  CudaSurfaceVolume cuda;
+  EXPECT_EQ(cuda.integrateHost(&v, f), SurfaceStatus::kSizeMismatch);
   EXPECT_EQ(v.observedVoxels(), 0u);
 }
 

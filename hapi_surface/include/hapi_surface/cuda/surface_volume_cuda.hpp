@@ -13,8 +13,12 @@
 #include "hapi_surface/tsdf_volume.hpp"
 
 #include <memory>
+#include <string>
 
 namespace hapi_surface {
+
+// Whether a CUDA device is usable; *info = its name or why not.
+bool surfaceCudaAvailable(std::string* info);
 
 class CudaSurfaceVolume {
  public:
@@ -32,22 +36,30 @@ class CudaSurfaceVolume {
   // The device volume's values into *volume, which must have its grid
   // (kSizeMismatch otherwise; *volume is unchanged on any error).
   SurfaceStatus download(TsdfVolume* volume) const;
+  // TsdfVolume::integrate of a host volume on the device (same checks, same
+  // bits): upload, integrate, download. kDeviceError when a CUDA call fails;
+  // *volume changes only on success.
+  SurfaceStatus integrateHost(TsdfVolume* volume, const DepthFrame& frame);
   // extractMesh() of the device volume into *mesh, whose memory is reused
   // (pass the same mesh again to avoid the page faults of a fresh one); on
   // an error *mesh is empty.
   SurfaceStatus extractMesh(Mesh* mesh);
 
-  // Milliseconds of the last integrate() (depth upload and kernel), of the
-  // last extractMesh() (kernels, scans and the mesh's download into *mesh)
-  // and of its kernels and scans alone, CUDA events.
+  // Milliseconds of the last integrate() (depth upload and kernel) and of
+  // its kernel alone, of the last integrateHost() (the volume's upload and
+  // download included, wall clock), of the last extractMesh() (kernels,
+  // scans and the mesh's download into *mesh) and of its kernels and scans
+  // alone; CUDA events unless said.
   float lastIntegrateMs() const { return integrate_ms_; }
+  float lastIntegrateKernelMs() const { return integrate_kernel_ms_; }
+  float lastRoundTripMs() const { return round_trip_ms_; }
   float lastMeshMs() const { return mesh_ms_; }
   float lastMeshKernelsMs() const { return mesh_kernels_ms_; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  float integrate_ms_ = 0, mesh_ms_ = 0, mesh_kernels_ms_ = 0;
+  float integrate_ms_ = 0, integrate_kernel_ms_ = 0, round_trip_ms_ = 0, mesh_ms_ = 0, mesh_kernels_ms_ = 0;
 };
 
 }  // namespace hapi_surface
