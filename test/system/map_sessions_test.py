@@ -172,6 +172,19 @@ def stop(proc):
         proc.wait()
 
 
+def pose_errors(odom, truth, T_map_world, since=-np.inf):
+    """Position [m] and rotation [deg] errors of the odometry from `since`
+    on against the truth moved into the map frame."""
+    errors, angles = [], []
+    for t, T_map_cam in odom:
+        if t < since:
+            continue
+        T_truth = T_map_world @ truth_at(truth, t)
+        errors.append(np.linalg.norm(T_map_cam[:3, 3] - T_truth[:3, 3]))
+        angles.append(np.linalg.norm(Rotation.from_matrix(T_map_cam[:3, :3].T @ T_truth[:3, :3]).as_rotvec()))
+    return np.array(errors), np.degrees(angles)
+
+
 def check_session2(watch, truth1, truth2, T_map_world, frames, figures):
     failures = []
     relocalised = [float(m.group(1)) for m in map(RELOCALISED.match, watch.states) if m]
@@ -187,16 +200,9 @@ def check_session2(watch, truth1, truth2, T_map_world, frames, figures):
     figures["odometry_before_relocalisation"] = len(early)
     if early:
         failures.append("%d odometry messages before relocalisation (first at %.3f)" % (len(early), early[0]))
-    errors, angles = [], []
-    for t, T_map_cam in watch.odom:
-        if t < t_reloc - 1e-3:
-            continue
-        T_truth = T_map_world @ truth_at(truth2, t)
-        errors.append(np.linalg.norm(T_map_cam[:3, 3] - T_truth[:3, 3]))
-        angles.append(np.linalg.norm(Rotation.from_matrix(T_map_cam[:3, :3].T @ T_truth[:3, :3]).as_rotvec()))
-    if not errors:
+    errors, angles = pose_errors(watch.odom, truth2, T_map_world, since=t_reloc - 1e-3)
+    if not len(errors):
         return failures + ["no odometry after relocalisation"]
-    errors, angles = np.array(errors), np.degrees(angles)
     frames_after = frames * (truth2[0][-1] - t_reloc) / (truth2[0][-1] - t_first_truth)
     figures.update({"poses": len(errors), "position_error_median_m": float(np.median(errors)),
                     "position_error_max_m": float(errors.max()), "rotation_error_median_deg": float(np.median(angles)),
@@ -219,7 +225,7 @@ def check_other_scene(watch, figures, truth, T_map_world):
     figures.update({"frames_held": watch.held, "relocalised": any(RELOCALISED.match(x) for x in watch.states),
                     "odometry": len(watch.odom)})
     if watch.odom:
-        errors = np.array([np.linalg.norm(T[:3, 3] - (T_map_world @ truth_at(truth, t))[:3, 3]) for t, T in watch.odom])
+        errors = pose_errors(watch.odom, truth, T_map_world)[0]
         figures["position_error_median_m"] = float(np.median(errors))
         print("other scene placed: position error median %.1f mm, max %.1f mm" % (1e3 * np.median(errors),
                                                                                    1e3 * errors.max()))
