@@ -313,6 +313,37 @@ class StandstillTest(unittest.TestCase):
             self.assertIn("standing still", failed["ate"])
 
 
+class InputStallTest(unittest.TestCase):
+    """input_stall: a /clock that stood still is measured, and a retry is
+    granted to an attempt whose input stalled, never to one that failed with
+    a real-time input."""
+
+    def test_largest_clock_step(self):
+        import input_stall
+        steps = input_stall.ClockSteps()
+        self.assertEqual(steps.still_for(50.0), 0.0)
+        for t in [100.0 + 0.001 * i for i in range(3000)] + [106.0 + 0.001 * i for i in range(100)]:
+            steps.add(t, t - 90.0)
+        self.assertAlmostEqual(steps.largest, 106.0 - 102.999, places=6)
+        self.assertAlmostEqual(steps.at, 102.999, places=6)
+        self.assertAlmostEqual(steps.still_for(106.099 - 90.0 + 4.0), 4.0, places=6)
+
+    def test_retry_only_after_a_stalled_input(self):
+        import input_stall
+        with tempfile.TemporaryDirectory() as d:
+            argv = ["evaluate_run.py", "--gtest_output=xml:%s" % os.path.join(d, "result.xml")]
+            first = input_stall.AttemptRecord(argv, run=7)
+            self.assertIsNone(first.previous_failure())
+            first.write(input_stall.STALL_S + 1.0, {"map_rms": "map 13 mm"})
+            self.assertIsNone(input_stall.AttemptRecord(argv, run=7).previous_failure())
+            first.write(0.05, {"map_rms": "map 13 mm"})
+            self.assertEqual(input_stall.AttemptRecord(argv, run=7).previous_failure(), {"map_rms": "map 13 mm"})
+            # Another rostest run (another parent process) starts afresh.
+            self.assertIsNone(input_stall.AttemptRecord(argv, run=8).previous_failure())
+            first.write(0.05, {})
+            self.assertIsNone(input_stall.AttemptRecord(argv, run=7).previous_failure())
+
+
 class RunVerdictTest(unittest.TestCase):
     """evaluate_run.failed_checks: a complete run passes, a partial one (the
     back end died 2 s into the 15 s bag) fails on its coverage."""

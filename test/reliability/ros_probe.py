@@ -13,6 +13,7 @@ import argparse
 import json
 import math
 import signal
+import struct
 import sys
 import threading
 import time
@@ -23,18 +24,27 @@ from nav_msgs.msg import Odometry
 
 
 class Probe(object):
-    def __init__(self, odom_topic):
+    def __init__(self, odom_topic, input_topic=None):
         self.lock = threading.Lock()
         self.odom = []   # [wall, stamp, x, y, z]
+        self.input = []  # [wall, stamp]
         self.diag = {}   # status name -> {"level":, "message":, "values": {}}
         self.diag_series = []  # [wall, status name, {values}] of every status received
         rospy.Subscriber(odom_topic, Odometry, self.on_odom, queue_size=1000)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=100)
+        if input_topic:
+            rospy.Subscriber(input_topic, rospy.AnyMsg, self.on_input, queue_size=1000)
 
     def on_odom(self, msg):
         p = msg.pose.pose.position
         with self.lock:
             self.odom.append([time.time(), msg.header.stamp.to_sec(), p.x, p.y, p.z])
+
+    def on_input(self, msg):
+        # Any message with a std_msgs/Header first: seq (uint32), then the stamp.
+        sec, nsec = struct.unpack_from("<II", msg._buff, 4)
+        with self.lock:
+            self.input.append([time.time(), sec + 1e-9 * nsec])
 
     def on_diag(self, msg):
         with self.lock:
@@ -75,6 +85,7 @@ def main():
     ap.add_argument("--duration", type=float, required=True, help="seconds to watch (wall time)")
     ap.add_argument("--out", required=True, help="JSON file to write")
     ap.add_argument("--odom", default="/eskf/odom")
+    ap.add_argument("--input", default="", help="a stamped topic the bag player publishes (optional)")
     args = ap.parse_args(rospy.myargv()[1:])
     rospy.init_node("hapi_ros_probe", anonymous=True, disable_signals=True)
     # SIGTERM/SIGINT end the watch early (the caller knows when its phase
@@ -82,16 +93,18 @@ def main():
     stop = []
     signal.signal(signal.SIGTERM, lambda *_: stop.append(1))
     signal.signal(signal.SIGINT, lambda *_: stop.append(1))
-    probe = Probe(args.odom)
+    probe = Probe(args.odom, args.input)
     start = time.time()
     while time.time() - start < args.duration and not rospy.is_shutdown() and not stop:
         time.sleep(0.1)
     with probe.lock:
         odom, diag, series = list(probe.odom), dict(probe.diag), list(probe.diag_series)
+        inputs = list(probe.input)
     out = summarise(odom, start)
     out["duration_s"] = time.time() - start
     out["diagnostics"] = diag
     out["odom"] = [[round(o[0] - start, 3), o[1], o[2], o[3], o[4]] for o in odom]
+    out["input"] = [[round(i[0] - start, 3), i[1]] for i in inputs]
     out["diagnostics_series"] = [[round(d[0] - start, 3), d[1], d[2]] for d in series]
     with open(args.out, "w") as f:
         json.dump(out, f, indent=1)

@@ -194,10 +194,10 @@ server_manager_pid() { pgrep -f "__name:=hapi_server_manager" | head -1; }
 MGR_PID_START="$(server_manager_pid)"
 sleep 2
 
-probe() {  # probe SECONDS NAME (background; PROBE_PID, PROBE_START)
+probe() {  # probe SECONDS NAME [INPUT_TOPIC] (background; PROBE_PID, PROBE_START)
   PROBE_START=$(python3 -c "import time; print(time.time())")
   ip netns exec "$NS_S" "${ENV_S[@]}" python3 "$REPO/test/reliability/ros_probe.py" --duration "$1" \
-    --out "$OUT/$2.json" >"$OUT/$2.log" 2>&1 &
+    --out "$OUT/$2.json" --input "${3:-}" >"$OUT/$2.log" 2>&1 &
   PROBE_PID=$!
 }
 end_probe() {  # the last messages cross the link, then the probe writes its JSON
@@ -239,7 +239,9 @@ if [ "$SCENARIO" = outage ]; then
   [ "$OUTAGE_AT" -lt "$BAG_LEN" ] || die "HAPI_OUTAGE_AT=$OUTAGE_AT s must be shorter than the bag ($BAG_LEN s)"
   ROBOT_MGR="$(robot_manager_pid)"
   log "outage: the bag once, link down $OUTAGE_AT s after the first odometry, for $OUTAGE_LEN s"
-  probe $((BAG_LEN + 60)) outage
+  # The bag's truth poses (10 Hz, nothing else subscribes to them across the
+  # link) show how late the player itself delivered the bag.
+  probe $((BAG_LEN + 60)) outage /ground_truth/pose
   sleep 1
   play_bg
   # The outage clock starts at the first odometry on the server, not at the

@@ -5,7 +5,9 @@
     near 0; a frozen pose and dead-reckoning at 10x the speed score far
     beyond the --max-motion-error bound;
   * soak_verdict.py: a 30 s odometry silence on the 10 Hz stream fails,
-    loop resets of a few tenths of a second do not.
+    loop resets of a few tenths of a second do not;
+  * outage_verdict.player_lags: a player stalled for 3 s is measured as 3 s
+    late until it has caught up, an on-time one as 0.
 """
 import json
 import math
@@ -19,6 +21,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+import outage_verdict  # noqa: E402
 import two_hosts_verdict  # noqa: E402
 
 BOUND = 0.25  # two_hosts_verdict.py's --max-motion-error default
@@ -34,6 +37,20 @@ def globe_track(seconds=10.0, rate=10.0):
 
 def odom(t, p):
     return [(100.0 + s, s, *x) for s, x in zip(t, p)]
+
+
+class PlayerLag(unittest.TestCase):
+    def test_stalled_player_is_measured(self):
+        # 10 Hz truth poses on time for 20 s, then sent 3 s late from bag time 20 s on.
+        inputs = [[100.0 + 0.1 * k, 0.1 * k] for k in range(200)]
+        inputs += [[103.0 + 0.1 * k, 0.1 * k] for k in range(200, 300)]
+        walls = [105.0, 115.0, 125.0, 129.0]
+        lags = outage_verdict.player_lags(inputs, walls, before_wall=110.0)
+        self.assertAlmostEqual(lags[0], 0.0, places=6)
+        self.assertAlmostEqual(lags[1], 0.0, places=6)
+        self.assertAlmostEqual(lags[2], 3.0, places=6)
+        self.assertAlmostEqual(lags[3], 3.0, places=6)
+        self.assertEqual(outage_verdict.player_lags([], walls, before_wall=110.0), [0.0] * 4)
 
 
 class MotionError(unittest.TestCase):

@@ -16,6 +16,10 @@ offline tools/eval/evaluate.py) and the PNG plots (plots.py). With ~surface
 to ~output before the launch ends, scores it against the truth and draws
 mesh.png (surface_run.py), in the report's `surface` section.
 
+The report gives the largest step of the bag player's /clock
+(input_largest_clock_step_s, input_stall.py): seconds of the bag delivered
+late and in a burst because the machine stalled the player.
+
 With ~test:=true it is a rostest test node: it fails when a metric is outside
 the bounds given as parameters, or when the run did not cover the bag (a back
 end that died or stalled also leaves the odometry silent): fewer than
@@ -24,7 +28,9 @@ odometry more than ~max_end_gap bag seconds before the last ground-truth pose,
 or a node of ~watch_nodes (the nodelet manager) no longer answering. With
 ~expect_failures (a list of check names, see failed_checks) it passes only
 when at least those checks fail: the test of the checks themselves
-(test/system/backend_dies.test).
+(test/system/backend_dies.test). Under rostest's retry, an attempt that
+failed with a real-time input ends the test: only a stalled input
+(input_stall.STALL_S) earns the retry (input_stall.AttemptRecord).
 
 Clocks: the back end runs on the camera clock; a simulated bag's truth is on
 the IMU clock, and /ground_truth/calibration (time_offset_s, t_imu = t_cam +
@@ -51,6 +57,7 @@ from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import String
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import input_stall  # noqa: E402
 import plots  # noqa: E402
 import run_analysis  # noqa: E402
 import scene_geometry  # noqa: E402
@@ -104,6 +111,8 @@ class RunCollector:
         rospy.Subscriber(rospy.get_param("~calibration_topic", "/ground_truth/calibration"), String,
                          self.on_calibration, queue_size=2)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=20)
+        self.clock_watch = input_stall.ClockWatch()
+        self.player_node = rospy.get_param("~player_node", "/player")
         try:
             self.surface_motion = surface_motion_run.SurfaceMotionCollector()
         except ImportError as e:  # hapi_msgs' Python messages not built or not on the path
@@ -115,6 +124,14 @@ class RunCollector:
                 self.surface = surface_run.SurfaceCollector()
             except ImportError as e:  # hapi_msgs' Python services not built or not on the path
                 rospy.logerr("surface not evaluated: %s", e)
+
+    def player_registered(self):
+        """The bag player has not finished: still registered with the master
+        (a frozen player does not answer, but stays registered)."""
+        try:
+            return self.player_node in rosnode.get_node_names()
+        except rosnode.ROSNodeIOException:
+            return False
 
     def on_odom(self, msg):
         p, o = msg.pose.pose.position, msg.pose.pose.orientation
@@ -247,6 +264,10 @@ class RunCollector:
         latency = latency_summary(res["diagnostics"])
         if latency:
             res["latency"] = latency
+        stall, at = self.clock_watch.largest_step(player_running=self.player_registered())
+        res["input_largest_clock_step_s"] = stall
+        if at is not None:
+            res["input_largest_clock_step_at_s"] = at - (float(gt["t"][0]) if len(gt["t"]) else 0.0)
         return res, series, est, gt
 
 
@@ -392,6 +413,11 @@ class PipelineAccuracyTest(unittest.TestCase):
     collector = None
 
     def test_pipeline_accuracy(self):
+        attempt = input_stall.AttemptRecord(sys.argv)
+        earlier = attempt.previous_failure()
+        if earlier:
+            self.fail("the previous attempt failed with a real-time input (a retry is for a stalled input "
+                      "only): %s" % earlier)
         c = PipelineAccuracyTest.collector
         ended = c.wait_for_end(rospy.get_param("~idle_timeout", 5.0), rospy.get_param("~max_wall_time", 300.0))
         collected = c.results()
@@ -410,6 +436,12 @@ class PipelineAccuracyTest(unittest.TestCase):
                   "max_surface_rms_mm": rospy.get_param("~max_surface_rms_mm", None),
                   "min_surface_completeness": rospy.get_param("~min_surface_completeness", None)}
         failed = failed_checks(res, bounds)
+        attempt.write(res["input_largest_clock_step_s"], failed)
+        if failed and res["input_largest_clock_step_s"] >= input_stall.STALL_S:
+            print("the bag player's clock stood still for %.1f s at %.1f s into the bag: the machine stalled the "
+                  "input (rostest retries a test so stalled)" % (res["input_largest_clock_step_s"],
+                                                                 res.get("input_largest_clock_step_at_s", -1.0)),
+                  flush=True)
         expected = rospy.get_param("~expect_failures", [])
         if expected:
             self.assertEqual(sorted(set(expected) - set(failed)), [], "checks failed: %s" % failed)
