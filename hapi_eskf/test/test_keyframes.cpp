@@ -1,7 +1,9 @@
 // Keyframes for place recognition (docs/DESIGN.md "Keyframes"): the index
 // ranks the keyframe that saw the query's points first, the relocaliser
 // places a camera near a keyframe with no pose hint, and nothing is placed
-// on a surface that was never mapped or from a frame that cannot be.
+// on a surface that was never mapped or from a frame that cannot be; the
+// recorder keeps a scan spaced and its keyframes place a later camera.
+#include "hapi_eskf/keyframes/keyframe_recorder.hpp"
 #include "hapi_eskf/keyframes/keyframe_relocaliser.hpp"
 
 #include "keyframe_scene.hpp"
@@ -97,6 +99,61 @@ TEST(Keyframes, RefusesWhatCannotBeMatched) {
   EXPECT_FALSE(m.reloc.add(broken));
   KeyframeRelocaliser none;
   EXPECT_FALSE(none.place(test::viewOf(m.scene, test::cameraAbove(0, 0, 0.25, 0), m.g, 16)));
+}
+
+// A scan recorded frame by frame keeps one keyframe per 2 cm of travel, and
+// those keyframes, moved into another map frame, place a later camera there.
+TEST(Keyframes, RecorderKeepsASpacedScanThatPlacesALaterCamera) {
+  const test::KeyframeScene scene = test::makeKeyframeScene(2000, 0.6, 7);
+  std::mt19937 g(5);
+  KeyframeRecorder rec;
+  int offered = 0;
+  for (; offered <= 80; ++offered) {  // 81 frames 5.1 mm apart
+    const Eigen::Isometry3d T = test::cameraAbove(-0.2 + 0.0051 * offered, 0.0, 0.25, 0.0);
+    rec.offer(test::viewOf(scene, T, g, 16, offered * 0.1), T, Mat6::Identity() * 1e-6);
+  }
+  EXPECT_EQ(rec.size(), 21u);  // every 4th frame (20.4 mm apart): 80 / 4 + 1
+  // A frame with too few points is never kept.
+  StereoFrame sparse = test::viewOf(scene, test::cameraAbove(0.25, 0.25, 0.25, 0.0), g, 16);
+  sparse.measurements.resize(5);
+  sparse.descriptors.resize(5 * 32);
+  EXPECT_FALSE(rec.offer(sparse, test::cameraAbove(0.25, 0.25, 0.25, 0.0), Mat6::Identity()));
+
+  // The same keyframes in a map frame turned 30 deg and moved 10 cm.
+  Eigen::Isometry3d T_map_world = Eigen::Isometry3d::Identity();
+  T_map_world.linear() = Eigen::AngleAxisd(0.5, Vec3(0.2, -0.3, 1.0).normalized()).toRotationMatrix();
+  T_map_world.translation() = Vec3(0.1, -0.05, 0.02);
+  Mat6 C = Mat6::Identity() * 1e-6;
+  C(0, 0) = 4e-6;
+  KeyframeRecorder one;
+  const Eigen::Isometry3d T0 = test::cameraAbove(0, 0, 0.25, 0);
+  ASSERT_TRUE(one.offer(test::viewOf(scene, T0, g, 16), T0, C));
+  const Keyframe moved = one.keyframes(T_map_world).front();
+  const Mat3 R = T_map_world.linear();
+  EXPECT_TRUE((moved.pose_covariance.topLeftCorner<3, 3>().isApprox(R * C.topLeftCorner<3, 3>() * R.transpose())));
+  EXPECT_TRUE((moved.pose_covariance.bottomRightCorner<3, 3>().isApprox(C.bottomRightCorner<3, 3>())));
+
+  KeyframeRelocaliser reloc;
+  for (Keyframe& k : rec.keyframes(T_map_world)) ASSERT_TRUE(reloc.add(std::move(k)));
+  const Eigen::Isometry3d T_world = test::cameraAbove(0.052, 0.01, 0.255, 0.05);
+  const std::optional<KeyframeFit> fit = reloc.place(test::viewOf(scene, T_world, g, 16));
+  ASSERT_TRUE(fit);
+  const Eigen::Isometry3d E = (T_map_world * T_world).inverse() * fit->T_map_cam;
+  EXPECT_LT(E.translation().norm(), 2e-3);
+  EXPECT_LT(rotationDeg(E.linear()), 0.3);
+
+  // A full store counts what it could not keep; a reset empties it.
+  KeyframeRecorderSettings small;
+  small.max_keyframes = 2;
+  KeyframeRecorder full(small);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Isometry3d T = test::cameraAbove(-0.1 + 0.05 * i, 0.0, 0.25, 0.0);
+    full.offer(test::viewOf(scene, T, g, 16), T, Mat6::Identity() * 1e-6);
+  }
+  EXPECT_EQ(full.size(), 2u);
+  EXPECT_EQ(full.notKeptFull(), 2u);
+  full.clear();
+  EXPECT_EQ(full.size(), 0u);
 }
 
 }  // namespace

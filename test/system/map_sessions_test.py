@@ -9,6 +9,8 @@ Session 1 replays SESSION1_BAG and saves its map through /eskf/save_map.
 Session 2 starts with ~map_file set to that map on SESSION2_BAG, whose
 camera starts elsewhere in the scene (another trajectory), with no pose
 hint. It passes when
+  * the map file of session 1 holds keyframes (session 2's /diagnostics
+    map_keyframes: kept while session 1 scanned, written by ~save_map),
   * /diagnostics of session 2 reports "relocalised in the loaded map at T",
   * session 2 publishes no odometry before T (nothing in the map frame
     before the camera is placed in it),
@@ -99,6 +101,7 @@ class Watch:
     def __init__(self):
         self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
         self.held = 0  # the filter's frames_relocalising
+        self.map_keyframes = 0  # keyframes in the loaded map file
         rospy.Subscriber("/eskf/odom", Odometry, self.on_odom, queue_size=1000)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=100)
         rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=10)
@@ -106,6 +109,7 @@ class Watch:
     def clear(self):
         self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
         self.held = 0
+        self.map_keyframes = 0
 
     def on_odom(self, m):
         self.odom.append((m.header.stamp.to_sec(), pose_matrix(m.pose.pose.position, m.pose.pose.orientation)))
@@ -117,6 +121,8 @@ class Watch:
                     self.states.append(kv.value)
                 elif kv.key == "frames_relocalising":
                     self.held = int(kv.value)
+                elif kv.key == "map_keyframes":
+                    self.map_keyframes = int(kv.value)
 
     def on_clock(self, m):
         if self.clock != m.clock:
@@ -187,6 +193,11 @@ def pose_errors(odom, truth, T_map_world, since=-np.inf):
 
 def check_session2(watch, truth1, truth2, T_map_world, frames, figures):
     failures = []
+    # Session 1 kept keyframes while it scanned, and its map file carries them.
+    figures["map_keyframes"] = watch.map_keyframes
+    print("session 2 read a map with %d keyframes" % watch.map_keyframes)
+    if watch.map_keyframes < 1:
+        failures.append("the map file of session 1 holds no keyframes")
     relocalised = [float(m.group(1)) for m in map(RELOCALISED.match, watch.states) if m]
     print("session 2 relocalisation states:", sorted(set(watch.states)))
     figures["relocalised"] = bool(relocalised)

@@ -3,6 +3,7 @@
 #include "hapi_eskf/eskf/storage_factory.hpp"
 #include "hapi_eskf/ros/eskf_nodelet.hpp"
 
+#include "hapi_eskf/map_file/map_checks.hpp"
 #include "hapi_eskf/session/map_session.hpp"
 #include "hapi_eskf/ros/conversions.hpp"
 #include "hapi_eskf/slam_backend_factory.hpp"
@@ -73,6 +74,11 @@ void EskfNodelet::onInit() {
   map_ = std::make_unique<ros_glue::MapPublisher>(params_, pnh.advertise<sensor_msgs::PointCloud2>("map", 1, true),
                                                   getName());
   map_session_ = std::make_unique<ros_glue::MapSession>(params_, getName());
+  KeyframeRecorderSettings keyframe_settings;
+  keyframe_settings.min_distance = params_.keyframe_distance;
+  keyframe_settings.min_angle_deg = params_.keyframe_angle;
+  keyframe_settings.max_keyframes = static_cast<std::size_t>(params_.max_keyframes);
+  keyframes_ = std::make_unique<KeyframeRecorder>(keyframe_settings);
   std::size_t map_landmarks = 0;
   if (!params_.map_file.empty()) map_session_->read(params_.map_file, -1, &map_landmarks);  // a fault is reported
 
@@ -88,6 +94,8 @@ void EskfNodelet::onInit() {
   updater_->add(kStatusName, [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     stats_->diagnose(stat, mailbox_.dropped(), landmarks_in_.resubscriptions() + imu_in_.resubscriptions());
     map_session_->diagnose(stat);
+    stat.add("keyframes", keyframes_->size());  // for ~save_map
+    stat.add("keyframes_not_kept_full", keyframes_->notKeptFull());
   });
   updater_->add(kSelfCheckName, self_check_.get(), &ros_glue::SelfCheck::produce);
   diag_timer_ = nh.createWallTimer(ros::WallDuration(params_.diagnostics_period),
@@ -405,6 +413,7 @@ bool EskfNodelet::process(Work& w) {
       return false;
     }
     need_init_ = false;
+    keyframes_->clear();  // a new timeline: the old keyframes are in another world frame
     // A loaded map is the filter's world: published as it is, unanchored.
     if (map_session_->loadInto(backend_.get(), w.frame.descriptor_length)) output_->unanchorMap();
     if (imu_) imu_->dropUpTo(stamp);  // samples before the first frame are not needed
@@ -435,6 +444,7 @@ bool EskfNodelet::process(Work& w) {
     return false;
   }
   ++count.frames_processed;
+  if (!rep.relocalising) recordKeyframe(w.frame);
   const bool in_loaded_map = map_session_->waiting();
   map_session_->onFrame(rep, stamp);
   if (rep.relocalised) {
@@ -516,6 +526,16 @@ void EskfNodelet::takeSnapshot() {
       [this] { return fileMap(); }, last_stamp_);
 }
 
+// The frame is kept for ~save_map when the camera has moved far enough from
+// the last keyframe (keyframe_recorder.hpp).
+void EskfNodelet::recordKeyframe(const StereoFrame& frame) {
+  const PoseState pose = backend_->pose();
+  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+  T_world_cam.linear() = pose.q.normalized().toRotationMatrix();
+  T_world_cam.translation() = pose.p;
+  keyframes_->offer(frame, T_world_cam, backend_->cameraPoseCovariance());
+}
+
 ros_glue::FileMap EskfNodelet::fileMap() {
   ros_glue::FileMap out;
   if (!backend_ || need_init_) {
@@ -541,6 +561,16 @@ ros_glue::FileMap EskfNodelet::fileMap() {
     out.error = e.message;
   else if (skipped > 0)
     NODELET_WARN("~save_map: %d landmarks left out (covariance no longer positive definite)", skipped);
+  // Keyframes that fail the file's checks (a pose covariance that lost its
+  // definiteness) are left out, as such landmarks are.
+  int skipped_keyframes = 0;
+  for (Keyframe& k : keyframes_->keyframes(output_->mapFromWorld())) {
+    if (map_file::checkKeyframe(k, descriptor_length, out.map.keyframes.size()))
+      ++skipped_keyframes;
+    else
+      out.map.keyframes.push_back(std::move(k));
+  }
+  if (skipped_keyframes > 0) NODELET_WARN("~save_map: %d keyframes left out (failed the map file's checks)", skipped_keyframes);
   return out;
 }
 

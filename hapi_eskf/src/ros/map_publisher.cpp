@@ -107,8 +107,8 @@ bool MapPublisher::save(std_srvs::Trigger::Request&, std_srvs::Trigger::Response
   res.success = err.empty();
   res.message = res.success ? map_path : err;
   if (res.success)
-    ROS_INFO_NAMED(log_name_, "saved %zu landmarks to %s and %s", file_map->map.landmarks.size(), map_path.c_str(),
-                   ply_path.c_str());
+    ROS_INFO_NAMED(log_name_, "saved %zu landmarks and %zu keyframes to %s and %s", file_map->map.landmarks.size(),
+                   file_map->map.keyframes.size(), map_path.c_str(), ply_path.c_str());
   else
     ROS_ERROR_NAMED(log_name_, "~save_map failed: %s", err.c_str());
   return true;

@@ -76,8 +76,8 @@ map_file::MapError MapSession::read(const std::string& path, int descriptor_type
   map_ = std::move(map);
   map_path_ = path;
   state_ = State::kWaiting;  // from now until a frame relocalises in it
-  ROS_INFO_NAMED(log_name_, "map '%s' read: %zu landmarks in frame '%s'%s", path.c_str(), *landmarks,
-                 map_->map_frame.c_str(),
+  ROS_INFO_NAMED(log_name_, "map '%s' read: %zu landmarks and %zu keyframes in frame '%s'%s", path.c_str(),
+                 *landmarks, map_->keyframes.size(), map_->map_frame.c_str(),
                  have_calibration ? "" : "; calibration compared at the first frame with camera_info");
   return {};
 }
@@ -156,6 +156,7 @@ void MapSession::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) con
   else if (!map_ && !last_failure_.empty())
     stat.mergeSummaryf(diagnostic_msgs::DiagnosticStatus::WARN, "map not loaded: %s", last_failure_.c_str());
   stat.add("map_file", map_ ? map_path_ : std::string("none"));
+  stat.add("map_keyframes", map_ ? map_->keyframes.size() : std::size_t{0});
   switch (state_) {
     case State::kNoMap: stat.add("relocalisation", "no map loaded"); break;
     case State::kWaiting: stat.add("relocalisation", "waiting for the loaded map"); break;

@@ -43,6 +43,7 @@
 #include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/covariance/backend_fault_policy.hpp"
 #include "hapi_eskf/covariance/covariance_backend.hpp"
+#include "hapi_eskf/keyframes/keyframe_recorder.hpp"
 #include "hapi_eskf/ros/graph_refiner.hpp"
 #include "hapi_eskf/ros/imu_input.hpp"
 #include "hapi_eskf/ros/map_publisher.hpp"
@@ -121,7 +122,8 @@ class EskfNodelet : public nodelet::Nodelet {
   // diagnostics status turns ERROR with `why`.
   void stop(const std::string& why);
   void takeSnapshot();
-  ros_glue::FileMap fileMap();  // the pool as a map file's content (~save_map)
+  ros_glue::FileMap fileMap();  // the pool and the keyframes as a map file's content (~save_map)
+  void recordKeyframe(const StereoFrame& frame);
 
   ros_glue::NodeletParams params_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
@@ -134,6 +136,7 @@ class EskfNodelet : public nodelet::Nodelet {
   std::unique_ptr<ros_glue::TrajectoryRecorder> trajectory_;
   std::unique_ptr<ros_glue::MapPublisher> map_;
   std::unique_ptr<ros_glue::MapSession> map_session_;
+  std::unique_ptr<KeyframeRecorder> keyframes_;  // for ~save_map
   std::unique_ptr<ros_glue::GraphRefiner> refiner_;  // ~refine
 
   // Landmarks callback state (and ~reset's stamp guard clear): the guard owns
