@@ -570,7 +570,8 @@ ros_glue::FileMap EskfNodelet::fileMap() {
     else
       out.map.keyframes.push_back(std::move(k));
   }
-  if (skipped_keyframes > 0) NODELET_WARN("~save_map: %d keyframes left out (failed the map file's checks)", skipped_keyframes);
+  if (skipped_keyframes > 0)
+    NODELET_WARN("~save_map: %d keyframes left out (failed the map file's checks)", skipped_keyframes);
   return out;
 }
 

@@ -17,10 +17,10 @@
 namespace hapi_eskf {
 
 struct KeyframeRecorderSettings {
-  double min_distance = 0.02;       // [m] camera travel between keyframes
-  double min_angle_deg = 10.0;      // [deg] camera turn between keyframes
+  double min_distance = 0.02;        // [m] camera travel between keyframes
+  double min_angle_deg = 10.0;       // [deg] camera turn between keyframes
   std::size_t max_keyframes = 1000;  // the store's size (relocalisation in ~35 ms at 1000, BENCHMARKS.md)
-  std::size_t min_points = 12;      // a frame with fewer points cannot place a camera (KeyframeRelocaliser)
+  std::size_t min_points = 12;       // a frame with fewer points cannot place a camera (KeyframeRelocaliser)
 };
 
 class KeyframeRecorder {
