@@ -32,6 +32,11 @@ compares them (DIR/compare.{ply,png,json}; figures printed, not checked).
 --json FILE writes the figures (relocalisation time, position and rotation
 errors, the other scene's verdict, the surfaces' comparison) for
 tools/eval/session_study.py. Exit 0 pass, 1 fail.
+
+A stalled bag player (tools/eval/input_stall.py: its /clock stood still for
+STALL_S or more, or stopped before the bag's end) delivers frames late and
+all at once; a test that failed with such an input runs once more, in a new
+process. One that failed with a real-time input does not.
 """
 import argparse
 import bisect
@@ -54,6 +59,9 @@ from scipy.spatial.transform import Rotation
 from std_srvs.srv import Trigger
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+sys.path.insert(0, os.path.join(REPO, "tools", "eval"))
+import input_stall  # noqa: E402
+RETRY_ENV = "HAPI_MAP_SESSIONS_RETRY"  # set in the one rerun after a stalled input
 
 # Loose against the measured figure (docs/DESIGN.md "Map file": session 1's
 # drift over its 6 s plus session 2's error), tight against a filter that
@@ -102,14 +110,25 @@ class Watch:
         self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
         self.held = 0  # the filter's frames_relocalising
         self.map_keyframes = 0  # keyframes in the loaded map file
+        self.steps = input_stall.ClockSteps()
+        self.largest_stall = 0.0  # [s] of every session so far
         rospy.Subscriber("/eskf/odom", Odometry, self.on_odom, queue_size=1000)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=100)
-        rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=10)
+        rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=10000, tcp_nodelay=True)
 
     def clear(self):
         self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
         self.held = 0
         self.map_keyframes = 0
+        self.steps = input_stall.ClockSteps()
+
+    def session_over(self, bag_end):
+        """Keeps the session's largest /clock step; a clock that stopped
+        more than a second before the bag's end [s] is a stall of that length."""
+        stall = self.steps.largest
+        if self.clock is not None and bag_end - self.clock.to_sec() > 1.0:
+            stall = max(stall, bag_end - self.clock.to_sec())
+        self.largest_stall = max(self.largest_stall, stall)
 
     def on_odom(self, m):
         self.odom.append((m.header.stamp.to_sec(), pose_matrix(m.pose.pose.position, m.pose.pose.orientation)))
@@ -125,6 +144,7 @@ class Watch:
                     self.map_keyframes = int(kv.value)
 
     def on_clock(self, m):
+        self.steps.add(m.clock.to_sec(), time.time())
         if self.clock != m.clock:
             self.clock, self.clock_wall = m.clock, time.time()
 
@@ -149,6 +169,8 @@ def run_session(watch, bag, map_file, options, timeout_s=120.0):
         time.sleep(0.2)
     if not watch.bag_over():
         raise RuntimeError("the bag did not finish within %.0f s" % timeout_s)
+    with rosbag.Bag(bag) as b:
+        watch.session_over(b.get_end_time())
     return proc
 
 
@@ -292,12 +314,12 @@ def main():
             stop(proc)
         if not res.success:
             print("FAIL: session 1's ~save_map: %s" % res.message)
-            return 1
+            return 1, watch.largest_stall
         map_path = res.message
         print("session 1: %d poses, map saved to %s" % (len(watch.odom), map_path))
         if not watch.odom:
             print("FAIL: session 1 published no odometry")
-            return 1
+            return 1, watch.largest_stall
         # Session 1's map frame (its first camera pose; inertial: levelled at
         # its first camera position): T_map_world from its first odometry.
         t1, T_map_cam1 = watch.odom[0]
@@ -332,9 +354,15 @@ def main():
             json.dump(figures, f, indent=1)
     for f in failures:
         print("FAIL:", f)
+    print("largest step of the bag player's /clock: %.2f s" % watch.largest_stall)
     print("PASS" if not failures else "FAILED")
-    return 1 if failures else 0
+    return (1 if failures else 0), watch.largest_stall
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    rc, stall = main()
+    if rc != 0 and stall >= input_stall.STALL_S and not os.environ.get(RETRY_ENV):
+        print("a bag player stalled for %.1f s (the machine, not the system under test): running the test once more"
+              % stall, flush=True)
+        os.execve(sys.executable, [sys.executable] + sys.argv, dict(os.environ, **{RETRY_ENV: "1"}))
+    sys.exit(rc)
