@@ -327,6 +327,8 @@ class InputStallTest(unittest.TestCase):
         self.assertAlmostEqual(steps.largest, 106.0 - 102.999, places=6)
         self.assertAlmostEqual(steps.at, 102.999, places=6)
         self.assertAlmostEqual(steps.still_for(106.099 - 90.0 + 4.0), 4.0, places=6)
+        steps.add(106.099, 20.0)  # a repeated reading: the clock has not moved
+        self.assertAlmostEqual(steps.still_for(106.099 - 90.0 + 4.0), 4.0, places=6)
 
     def test_retry_only_after_a_stalled_input(self):
         import input_stall

@@ -107,17 +107,22 @@ TEST(Keyframes, RecorderKeepsASpacedScanThatPlacesALaterCamera) {
   const test::KeyframeScene scene = test::makeKeyframeScene(2000, 0.6, 7);
   std::mt19937 g(5);
   KeyframeRecorder rec;
-  int offered = 0;
+  int offered = 0, covariances_read = 0;
   for (; offered <= 80; ++offered) {  // 81 frames 5.1 mm apart
     const Eigen::Isometry3d T = test::cameraAbove(-0.2 + 0.0051 * offered, 0.0, 0.25, 0.0);
-    rec.offer(test::viewOf(scene, T, g, 16, offered * 0.1), T, Mat6::Identity() * 1e-6);
+    rec.offer(test::viewOf(scene, T, g, 16, offered * 0.1), T, [&covariances_read] {
+      ++covariances_read;
+      return Mat6(Mat6::Identity() * 1e-6);
+    });
   }
   EXPECT_EQ(rec.size(), 21u);  // every 4th frame (20.4 mm apart): 80 / 4 + 1
+  EXPECT_EQ(covariances_read, 21);  // the back end's covariance is read for kept frames only
   // A frame with too few points is never kept.
-  StereoFrame sparse = test::viewOf(scene, test::cameraAbove(0.25, 0.25, 0.25, 0.0), g, 16);
+  const Eigen::Isometry3d T_sparse = test::cameraAbove(0.25, 0.25, 0.25, 0.0);
+  StereoFrame sparse = test::viewOf(scene, T_sparse, g, 16);
   sparse.measurements.resize(5);
   sparse.descriptors.resize(5 * 32);
-  EXPECT_FALSE(rec.offer(sparse, test::cameraAbove(0.25, 0.25, 0.25, 0.0), Mat6::Identity()));
+  EXPECT_FALSE(rec.offer(sparse, T_sparse, [] { return Mat6(Mat6::Identity()); }));
 
   // The same keyframes in a map frame turned 30 deg and moved 10 cm.
   Eigen::Isometry3d T_map_world = Eigen::Isometry3d::Identity();
@@ -127,7 +132,7 @@ TEST(Keyframes, RecorderKeepsASpacedScanThatPlacesALaterCamera) {
   C(0, 0) = 4e-6;
   KeyframeRecorder one;
   const Eigen::Isometry3d T0 = test::cameraAbove(0, 0, 0.25, 0);
-  ASSERT_TRUE(one.offer(test::viewOf(scene, T0, g, 16), T0, C));
+  ASSERT_TRUE(one.offer(test::viewOf(scene, T0, g, 16), T0, [&] { return C; }));
   const Keyframe moved = one.keyframes(T_map_world).front();
   const Mat3 R = T_map_world.linear();
   EXPECT_TRUE((moved.pose_covariance.topLeftCorner<3, 3>().isApprox(R * C.topLeftCorner<3, 3>() * R.transpose())));
@@ -148,7 +153,7 @@ TEST(Keyframes, RecorderKeepsASpacedScanThatPlacesALaterCamera) {
   KeyframeRecorder full(small);
   for (int i = 0; i < 4; ++i) {
     const Eigen::Isometry3d T = test::cameraAbove(-0.1 + 0.05 * i, 0.0, 0.25, 0.0);
-    full.offer(test::viewOf(scene, T, g, 16), T, Mat6::Identity() * 1e-6);
+    full.offer(test::viewOf(scene, T, g, 16), T, [] { return Mat6(Mat6::Identity() * 1e-6); });
   }
   EXPECT_EQ(full.size(), 2u);
   EXPECT_EQ(full.notKeptFull(), 2u);

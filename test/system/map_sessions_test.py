@@ -107,17 +107,17 @@ class Watch:
     """Odometry, the relocalisation state on /diagnostics and /clock."""
 
     def __init__(self):
-        self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
+        self.odom, self.states = [], []
         self.held = 0  # the filter's frames_relocalising
         self.map_keyframes = 0  # keyframes in the loaded map file
-        self.steps = input_stall.ClockSteps()
+        self.steps = input_stall.ClockSteps()  # the session's /clock
         self.largest_stall = 0.0  # [s] of every session so far
         rospy.Subscriber("/eskf/odom", Odometry, self.on_odom, queue_size=1000)
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=100)
         rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=10000, tcp_nodelay=True)
 
     def clear(self):
-        self.odom, self.states, self.clock, self.clock_wall = [], [], None, None
+        self.odom, self.states = [], []
         self.held = 0
         self.map_keyframes = 0
         self.steps = input_stall.ClockSteps()
@@ -125,9 +125,9 @@ class Watch:
     def session_over(self, bag_end):
         """Keeps the session's largest /clock step; a clock that stopped
         more than a second before the bag's end [s] is a stall of that length."""
-        stall = self.steps.largest
-        if self.clock is not None and bag_end - self.clock.to_sec() > 1.0:
-            stall = max(stall, bag_end - self.clock.to_sec())
+        stall, last = self.steps.largest, self.steps.last()
+        if last is not None and bag_end - last > 1.0:
+            stall = max(stall, bag_end - last)
         self.largest_stall = max(self.largest_stall, stall)
 
     def on_odom(self, m):
@@ -145,11 +145,9 @@ class Watch:
 
     def on_clock(self, m):
         self.steps.add(m.clock.to_sec(), time.time())
-        if self.clock != m.clock:
-            self.clock, self.clock_wall = m.clock, time.time()
 
     def bag_over(self, quiet_s=3.0):
-        return self.clock_wall is not None and time.time() - self.clock_wall > quiet_s
+        return self.steps.last() is not None and self.steps.still_for(time.time()) > quiet_s
 
 
 def run_session(watch, bag, map_file, options, timeout_s=120.0):

@@ -29,11 +29,11 @@ STALL_S = 2.0
 
 class ClockSteps(object):
     """The largest forward step of a sequence of clock readings [s], and how
-    long (wall time) the clock has stood still since the last one."""
+    long (wall time) the clock has stood still since it last moved."""
 
     def __init__(self):
         self._last = None
-        self._last_wall = None
+        self._last_wall = None  # wall time of the last reading that moved the clock
         self.largest = 0.0
         self.at = None  # the reading where the largest step began
 
@@ -41,10 +41,11 @@ class ClockSteps(object):
         if self._last is not None and t - self._last > self.largest:
             self.largest = t - self._last
             self.at = self._last
-        self._last, self._last_wall = t, wall
+        if t != self._last:
+            self._last, self._last_wall = t, wall
 
     def still_for(self, wall):
-        """Wall seconds since the last reading (0 before the first)."""
+        """Wall seconds since the clock last moved (0 before the first reading)."""
         return 0.0 if self._last_wall is None else wall - self._last_wall
 
     def last(self):

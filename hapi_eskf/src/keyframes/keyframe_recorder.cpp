@@ -6,7 +6,7 @@
 namespace hapi_eskf {
 
 bool KeyframeRecorder::offer(const StereoFrame& frame, const Eigen::Isometry3d& T_world_cam,
-                             const Mat6& pose_covariance) {
+                             const std::function<Mat6()>& pose_covariance) {
   if (frame.measurements.size() < s_.min_points) return false;
   std::lock_guard<std::mutex> lk(mu_);
   if (!kept_.empty()) {
@@ -20,7 +20,7 @@ bool KeyframeRecorder::offer(const StereoFrame& frame, const Eigen::Isometry3d& 
     ++not_kept_full_;
     return false;
   }
-  kept_.push_back(keyframeOf(next_id_++, frame, T_world_cam, pose_covariance));
+  kept_.push_back(keyframeOf(next_id_++, frame, T_world_cam, pose_covariance()));
   return true;
 }
 

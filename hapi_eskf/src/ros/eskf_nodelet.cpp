@@ -529,11 +529,9 @@ void EskfNodelet::takeSnapshot() {
 // The frame is kept for ~save_map when the camera has moved far enough from
 // the last keyframe (keyframe_recorder.hpp).
 void EskfNodelet::recordKeyframe(const StereoFrame& frame) {
-  const PoseState pose = backend_->pose();
-  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-  T_world_cam.linear() = pose.q.normalized().toRotationMatrix();
-  T_world_cam.translation() = pose.p;
-  keyframes_->offer(frame, T_world_cam, backend_->cameraPoseCovariance());
+  const Eigen::Isometry3d T_world_cam =
+      ros_glue::toCameraInMap(backend_->pose(), Eigen::Isometry3d::Identity()).isometry();
+  keyframes_->offer(frame, T_world_cam, [this] { return backend_->cameraPoseCovariance(); });
 }
 
 ros_glue::FileMap EskfNodelet::fileMap() {

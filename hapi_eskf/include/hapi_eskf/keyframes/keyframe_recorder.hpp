@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <mutex>
 #include <vector>
 
@@ -27,10 +28,13 @@ class KeyframeRecorder {
  public:
   explicit KeyframeRecorder(const KeyframeRecorderSettings& s = KeyframeRecorderSettings()) : s_(s) {}
 
-  // The frame at camera pose T_world_cam (covariance of [dp, dtheta]: world
-  // position, rotation error on the right) is kept when it is far enough
-  // from the last keyframe. Returns whether it was kept.
-  bool offer(const StereoFrame& frame, const Eigen::Isometry3d& T_world_cam, const Mat6& pose_covariance);
+  // The frame at camera pose T_world_cam is kept when it is far enough from
+  // the last keyframe; only then is pose_covariance called (the covariance
+  // of [dp, dtheta]: world position, rotation error on the right), since a
+  // back end may have to read it back or solve for it. Returns whether the
+  // frame was kept.
+  bool offer(const StereoFrame& frame, const Eigen::Isometry3d& T_world_cam,
+             const std::function<Mat6()>& pose_covariance);
   // The keyframes with their poses in another frame: T_map_world * pose
   // (the position rows of the covariance turn with it).
   std::vector<Keyframe> keyframes(const Eigen::Isometry3d& T_map_world) const;
