@@ -2,16 +2,19 @@
 // a scene and saves its pool as a map file; session 2 starts at another
 // pose with no hint, loads the file, holds its frames until a RANSAC fit of
 // its measurements against the loaded landmarks places it in the map, then
-// tracks in the map frame and adds landmarks beyond the loaded ones. A
-// session on another scene (other points, other descriptors) must never
-// relocalise in the map.
+// tracks in the map frame and adds landmarks beyond the loaded ones; where
+// the saved pool no longer holds an area's landmarks, the map's keyframes
+// place the camera. A session on another scene (other points, other
+// descriptors) must never relocalise in the map.
 #include "hapi_eskf/eskf/eskf.hpp"
+#include "hapi_eskf/keyframes/keyframe_recorder.hpp"
 #include "hapi_eskf/map_file/map_landmarks.hpp"
 #include "hapi_eskf/map_file/map_reader.hpp"
 #include "hapi_eskf/session/map_session.hpp"
 #include "hapi_eskf/map_file/map_writer.hpp"
 #include "basic_settings.hpp"
 #include "inertial_scenario.hpp"
+#include "keyframe_scene.hpp"
 #include "sim_scenario.hpp"
 
 #include <gtest/gtest.h>
@@ -156,6 +159,117 @@ TEST(MapRelocalise, AnotherSceneNeverRelocalises) {
   EXPECT_EQ(r.frames_held, 30);
   EXPECT_EQ(r.landmarks_at_end, r.loaded);
   std::remove(path.c_str());
+}
+
+// A skin-like plane scanned 40 cm along x with a pool of 150: the area
+// where session 1 began left the pool long before the save, so the saved
+// landmarks cannot place a camera there; the saved keyframes can, and the
+// placing keyframe's points tie the pose to the map frame.
+struct PlaneScan {
+  test::KeyframeScene scene = test::makeKeyframeScene(3000, 0.8, 3);
+  std::mt19937 g{9};
+  map_file::MapData map;
+  PlaneScan() {
+    EskfSettings s = filterSettings(150);
+    Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+    PoseState start = poseOf(test::cameraAbove(-0.2, 0.0, 0.25, 0.0));
+    start.v = Vec3(0.05, 0.0, 0.0);  // camera x is the plane's x
+    EXPECT_EQ(f.reset(start, 0.0), Status::kOk);
+    KeyframeRecorder rec;
+    for (int k = 1; k <= 80; ++k) {
+      const StereoFrame frame = test::viewOf(scene, test::cameraAbove(-0.2 + 0.005 * k, 0.0, 0.25, 0.0), g, 16, 0.1 * k);
+      EXPECT_EQ(f.processFrame(frame), Status::kOk);
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.linear() = f.pose().q.toRotationMatrix();
+      T.translation() = f.pose().p;
+      rec.offer(frame, T, [&f] { return f.cameraPoseCovariance(); });
+    }
+    int skipped = 0;
+    map.landmarks = map_file::toMapLandmarks(f.landmarks(), f.landmarkDescriptors(), 32, &skipped);
+    map.keyframes = rec.keyframes(Eigen::Isometry3d::Identity());
+  }
+  static PoseState poseOf(const Eigen::Isometry3d& T) {
+    PoseState p;
+    p.p = T.translation();
+    p.q = Eigen::Quaterniond(T.linear());
+    return p;
+  }
+};
+
+struct PlaneComeBack {
+  int relocalised_at = -1, keyframe_fits = 0, landmarks_after_fit = 0;
+  double first_p_err = 0, first_rot_err = 0;  // at the relocalising frame [m], [rad]
+  double max_p_err = 0, max_rot_err = 0;      // over the frames from it on
+};
+
+// Session 2 from near session 1's start, turned 0.3 rad, creeping 1 cm/s.
+PlaneComeBack planeComeBack(PlaneScan& scan, bool with_keyframes) {
+  const EskfSettings s = filterSettings(1000);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+  EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  const std::vector<PriorLandmark> landmarks = map_file::toPriorLandmarks(scan.map);
+  EXPECT_EQ(f.loadMap(landmarks, Vec3::Zero(), with_keyframes ? scan.map.keyframes : std::vector<Keyframe>()),
+            Status::kOk);
+  PlaneComeBack r;
+  for (int k = 1; k <= 10; ++k) {
+    const Eigen::Isometry3d T = test::cameraAbove(-0.19 + 0.001 * k, 0.01, 0.25, 0.3);
+    IterationReport rep;
+    EXPECT_EQ(f.processFrame(test::viewOf(scan.scene, T, scan.g, 16, 0.1 * k), &rep), Status::kOk);
+    r.keyframe_fits += rep.keyframe_fit;
+    if (rep.relocalised) {
+      r.relocalised_at = k;
+      r.landmarks_after_fit = f.numLandmarks();
+    }
+    if (r.relocalised_at < 0) continue;
+    const auto e = sim::poseError(PlaneScan::poseOf(T), f.pose());
+    if (k == r.relocalised_at) {
+      r.first_p_err = e.head<3>().norm();
+      r.first_rot_err = e.tail<3>().norm();
+    }
+    r.max_p_err = std::max(r.max_p_err, e.head<3>().norm());
+    r.max_rot_err = std::max(r.max_rot_err, e.tail<3>().norm());
+  }
+  return r;
+}
+
+TEST(MapRelocalise, KeyframesPlaceTheCameraWhereTheSavedPoolHasNoLandmarks) {
+  PlaneScan scan;
+  std::printf("session 1: %zu landmarks, %zu keyframes saved\n", scan.map.landmarks.size(), scan.map.keyframes.size());
+  ASSERT_GE(scan.map.keyframes.size(), 15u);  // one per 2 cm of the 40 cm
+  // Without the keyframes the saved landmarks never place the camera.
+  const PlaneComeBack landmarks_only = planeComeBack(scan, false);
+  EXPECT_EQ(landmarks_only.relocalised_at, -1);
+  // With them, the first frame is placed on a keyframe.
+  const PlaneComeBack r = planeComeBack(scan, true);
+  std::printf("with keyframes: relocalised at frame %d, pool %d -> %d, error there %.2f mm %.3f deg, max %.2f mm "
+              "%.3f deg\n",
+              r.relocalised_at, static_cast<int>(scan.map.landmarks.size()), r.landmarks_after_fit,
+              1e3 * r.first_p_err, r.first_rot_err * 180 / M_PI, 1e3 * r.max_p_err, r.max_rot_err * 180 / M_PI);
+  EXPECT_EQ(r.relocalised_at, 1);
+  EXPECT_EQ(r.keyframe_fits, 1);
+  EXPECT_GT(r.landmarks_after_fit, static_cast<int>(scan.map.landmarks.size()));
+  // Session 1's own map error is in these: its landmarks place a camera at
+  // the scan's end with up to 3.6 mm and 1.2 deg over 10 frames.
+  EXPECT_LT(r.first_p_err, 3e-3);
+  EXPECT_LT(r.first_rot_err, 0.6 * M_PI / 180);
+  EXPECT_LT(r.max_p_err, 0.01);
+  EXPECT_LT(r.max_rot_err, 2.0 * M_PI / 180);
+}
+
+TEST(MapRelocalise, AKeyframeOfAnotherDescriptorLengthRefusesTheWholeMap) {
+  PlaneScan scan;
+  const EskfSettings s = filterSettings(1000);
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32));
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  std::vector<Keyframe> keyframes = scan.map.keyframes;
+  keyframes.back().descriptor_length = 16;
+  keyframes.back().descriptors.resize(keyframes.back().size() * 16);
+  EXPECT_EQ(f.loadMap(map_file::toPriorLandmarks(scan.map), Vec3::Zero(), keyframes), Status::kInvalidArgument);
+  EXPECT_EQ(f.numLandmarks(), 0);
+  EXPECT_EQ(f.mapKeyframes(), 0u);
+  EXPECT_FALSE(f.awaitingMap());
+  EXPECT_EQ(f.loadMap(map_file::toPriorLandmarks(scan.map), Vec3::Zero(), scan.map.keyframes), Status::kOk);
+  EXPECT_EQ(f.mapKeyframes(), scan.map.keyframes.size());
 }
 
 TEST(MapRelocalise, LoadRefusedUnlessFreshlyReset) {

@@ -155,6 +155,7 @@ struct IterationReport {
   bool update_skipped = false;  // S not PD etc.: state left unchanged
   bool relocalised = false;     // pose mean moved to the map fit after an outage (settings relocalise_gap)
   bool relocalising = false;    // after an outage, no map fit yet: prediction only (no update, no additions)
+  bool keyframe_fit = false;    // relocalised on a keyframe of the loaded map (Eskf::loadMap), not its landmarks
   bool vision_led = false;      // IMU and vision disagreed: pose means moved to the map fit (scene_motion_monitor.hpp)
   bool scene_moving = false;    // ... and the IMU says the device was still: the scanned surface moves
   // One per measurement of the frame, in frame order (back ends on the

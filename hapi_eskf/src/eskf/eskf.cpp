@@ -43,6 +43,15 @@ void holdBack(IterationReport* rep) {
   for (MeasurementOutcome& o : rep->measurements) o.result = MeasurementOutcome::Result::kHeldBack;
 }
 
+// A loaded map's keyframes place a camera with the map fit's RANSAC and
+// inlier count (association settings, kMapRelocaliseMinInliers).
+KeyframeRelocaliserSettings mapKeyframeSettings(const EskfSettings& s) {
+  KeyframeRelocaliserSettings k;
+  k.ransac_iterations = s.ransac_iterations;
+  k.min_inliers = kMapRelocaliseMinInliers;
+  return k;
+}
+
 }  // namespace
 
 Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> backend,
@@ -54,7 +63,8 @@ Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> back
       calibration_(*model_),
       imu_noise_(settings.imu_noise_window),
       scene_motion_(settings),
-      relocaliser_(settings) {
+      relocaliser_(settings),
+      map_keyframes_(mapKeyframeSettings(settings)) {
   // Construction never throws; a mismatch is reported by reset()/processFrame().
   if (backend_ && settings_.validate().empty() && backend_->capacity() == settings_.max_landmarks &&
       backend_->poseDim() == frame_error_.filterDim())
@@ -87,6 +97,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   awaiting_alignment_ = model_->kind() == MotionModelKind::kInertial;
   alignment_samples_.clear();
   pending_map_.clear();
+  map_keyframes_.clear();
   imu_noise_.clear();
   scene_motion_.reset();
   initialised_ = true;
@@ -266,11 +277,17 @@ std::vector<uint8_t> Eskf::landmarkDescriptors() const {
   return backend_ ? backend_->descriptors() : std::vector<uint8_t>();
 }
 
-Status Eskf::loadMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction) {
+Status Eskf::loadMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction,
+                     std::vector<Keyframe> keyframes) {
   if (!backend_) return Status::kBackendUnavailable;
   if (!initialised_) return Status::kNotInitialised;
   const Status st = checkMap(map, gravity_direction);
   if (st != Status::kOk) return st;
+  for (Keyframe& k : keyframes) {
+    if (k.descriptor_length == backend_->descriptorLength() && map_keyframes_.add(std::move(k))) continue;
+    map_keyframes_.clear();
+    return Status::kInvalidArgument;
+  }
   if (model_->kind() != MotionModelKind::kInertial) return applyMap(map, model_->initialCovariance());
   pending_map_ = map;  // align() applies it
   pending_gravity_ = gravity_direction.normalized();
@@ -278,7 +295,8 @@ Status Eskf::loadMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_
 }
 
 Status Eskf::checkMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction) const {
-  if (numLandmarks() != 0 || !pending_map_.empty() || settings_.ransac_iterations == 0)
+  if (numLandmarks() != 0 || !pending_map_.empty() || !map_keyframes_.keyframes().empty() ||
+      settings_.ransac_iterations == 0)
     return Status::kInvalidArgument;
   if (model_->kind() == MotionModelKind::kInertial &&
       (!awaiting_alignment_ || !gravity_direction.allFinite() || std::abs(gravity_direction.norm() - 1.0) > 1e-3))
@@ -295,27 +313,35 @@ Status Eskf::checkMap(const std::vector<PriorLandmark>& map, const Vec3& gravity
 }
 
 Status Eskf::applyMap(const std::vector<PriorLandmark>& map, const PoseMat& C_start) {
-  std::vector<NewLandmarkBlock> blocks(map.size());
-  for (std::size_t i = 0; i < map.size(); ++i) {
-    // m = position, dm = dz with C_z the saved marginal: no pose columns.
-    blocks[i].G_pose.setZero();
-    blocks[i].G_z.setIdentity();
-    blocks[i].Cz = map[i].covariance;
-    blocks[i].descriptor = map[i].descriptor.data();
-  }
   PoseMat C0 = C_start;
   C0.diagonal().segment<3>(kIdxP).array() += kLoadedMapPoseSigmaP * kLoadedMapPoseSigmaP;
   C0.diagonal().segment<3>(kIdxTheta).array() += kLoadedMapPoseSigmaTheta * kLoadedMapPoseSigmaTheta;
   Status st = backend_->reset(frame_error_.covariance(C0));
-  if (st == Status::kOk) st = backend_->addLandmarks(blocks);
+  if (st == Status::kOk) st = addPriorLandmarks(map);
   if (st != Status::kOk) {
     backend_->reset(frame_error_.covariance(C_start));
+    map_keyframes_.clear();
     return st;
   }
-  for (const PriorLandmark& l : map) book_.addPrior(l.position, l.times_observed, time_);
   relocaliser_.awaitMap();
   return Status::kOk;
 }
+
+Status Eskf::addPriorLandmarks(const std::vector<PriorLandmark>& landmarks) {
+  std::vector<NewLandmarkBlock> blocks(landmarks.size());
+  for (std::size_t i = 0; i < landmarks.size(); ++i) {
+    // m = position, dm = dz with C_z the landmark's own marginal: no pose columns.
+    blocks[i].G_pose.setZero();
+    blocks[i].G_z.setIdentity();
+    blocks[i].Cz = landmarks[i].covariance;
+    blocks[i].descriptor = landmarks[i].descriptor.data();
+  }
+  const Status st = backend_->addLandmarks(blocks);
+  if (st != Status::kOk) return st;
+  for (const PriorLandmark& l : landmarks) book_.addPrior(l.position, l.times_observed, time_);
+  return Status::kOk;
+}
+
 
 // The alignment's world is z up at the first camera position with an
 // arbitrary yaw; the map's is the saved one. Turning the first onto the
@@ -475,9 +501,10 @@ Status Eskf::associateAtPose(FrameWork& w) const {
 Status Eskf::associateFrame(FrameWork& w) {
   const auto t0 = Clock::now();
   Status st = associateAtPose(w);
-  const bool have_fit = st == Status::kOk && w.assoc.fit_inliers >= relocaliser_.minInliers() &&
-                        (!relocaliser_.awaitingMap() || model_->kind() != MotionModelKind::kInertial ||
-                         tiltAgrees(w.assoc.fit_R));
+  bool have_fit = st == Status::kOk && w.assoc.fit_inliers >= relocaliser_.minInliers() &&
+                  (!relocaliser_.awaitingMap() || model_->kind() != MotionModelKind::kInertial ||
+                   tiltAgrees(w.assoc.fit_R));
+  if (st == Status::kOk && !have_fit && relocaliser_.awaitingMap()) have_fit = fitOnMapKeyframes(w);
   bool vision_leads = false;
   if (have_fit && model_->usesImu() && !relocaliser_.pending()) {
     const Status prior = checkSceneMotion(w, &vision_leads);
@@ -526,6 +553,29 @@ Status Eskf::moveToMapFit(FrameWork& w, bool vision_leads) {
   restartFirstEstimates();
   w.rep.relocalised = relocaliser_.fitApplied();
   return associateAtPose(w);
+}
+
+// The loaded map's keyframes place the frame where its landmarks did not:
+// the placing keyframe's points (as many as leave room for this frame's
+// additions) join the pool, so the association again at the fitted pose
+// (moveToMapFit) updates the pose against them. Without room the fit still
+// moves the pose, and the loaded landmarks seen later tie it to the map.
+bool Eskf::fitOnMapKeyframes(FrameWork& w) {
+  const std::optional<KeyframeFit> fit = map_keyframes_.place(*w.frame);
+  if (!fit) return false;
+  const Mat3 R = fit->T_map_cam.linear();
+  if (model_->kind() == MotionModelKind::kInertial && !tiltAgrees(R)) return false;
+  std::vector<PriorLandmark> points = keyframeLandmarks(map_keyframes_.keyframes()[fit->keyframe]);
+  const long room = static_cast<long>(settings_.max_landmarks) - settings_.max_new_landmarks - numLandmarks();
+  points.resize(static_cast<std::size_t>(std::clamp(room, 0L, static_cast<long>(points.size()))));
+  // A failed addition leaves the pool as it was (the backend's contract):
+  // the fit then moves the pose alone.
+  static_cast<void>(addPriorLandmarks(points));
+  w.assoc.fit_R = R;
+  w.assoc.fit_t = fit->T_map_cam.translation();
+  w.assoc.fit_inliers = fit->inliers;
+  w.rep.keyframe_fit = true;
+  return true;
 }
 
 // Each measurement as the association left it; the update and the

@@ -1,5 +1,7 @@
 #include "hapi_eskf/keyframes/keyframe.hpp"
 
+#include "hapi_eskf/so3.hpp"
+
 namespace hapi_eskf {
 
 Keyframe keyframeOf(std::uint64_t id, const StereoFrame& frame, const Eigen::Isometry3d& T_map_cam,
@@ -18,6 +20,22 @@ Keyframe keyframeOf(std::uint64_t id, const StereoFrame& frame, const Eigen::Iso
     kf.point_covariances.push_back(m.Cz);
   }
   return kf;
+}
+
+std::vector<PriorLandmark> keyframeLandmarks(const Keyframe& kf) {
+  const Mat3 R = kf.T_map_cam.linear();
+  std::vector<PriorLandmark> out(kf.size());
+  for (std::size_t i = 0; i < kf.size(); ++i) {
+    Eigen::Matrix<double, 3, 6> J;
+    J << Mat3::Identity(), -R * skew(kf.points[i]);
+    PriorLandmark& l = out[i];
+    l.position = kf.T_map_cam * kf.points[i];
+    l.covariance = R * kf.point_covariances[i] * R.transpose() + J * kf.pose_covariance * J.transpose();
+    l.covariance = 0.5 * (l.covariance + l.covariance.transpose());
+    l.times_observed = 1;
+    l.descriptor.assign(kf.descriptor(i), kf.descriptor(i) + kf.descriptor_length);
+  }
+  return out;
 }
 
 }  // namespace hapi_eskf

@@ -123,7 +123,9 @@ void MapSession::onFrame(const IterationReport& report, double stamp) {
   if (state_ != State::kWaiting || !report.relocalised) return;
   state_ = State::kRelocalised;
   relocalised_at_ = stamp;
-  ROS_INFO_NAMED(log_name_, "relocalised in the loaded map '%s' at %.3f", map_path_.c_str(), stamp);
+  relocalised_on_ = report.keyframe_fit ? "a keyframe" : "its landmarks";
+  ROS_INFO_NAMED(log_name_, "relocalised in the loaded map '%s' at %.3f on %s", map_path_.c_str(), stamp,
+                 relocalised_on_);
 }
 
 bool MapSession::waiting() const {
@@ -160,7 +162,8 @@ void MapSession::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) con
   switch (state_) {
     case State::kNoMap: stat.add("relocalisation", "no map loaded"); break;
     case State::kWaiting: stat.add("relocalisation", "waiting for the loaded map"); break;
-    case State::kRelocalised: stat.addf("relocalisation", "relocalised in the loaded map at %.3f", relocalised_at_); break;
+    case State::kRelocalised: stat.addf("relocalisation", "relocalised in the loaded map at %.3f on %s", relocalised_at_, relocalised_on_);
+      break;
   }
   stat.add("map_loads", loads_);
   stat.add("map_load_failures", load_failures_);

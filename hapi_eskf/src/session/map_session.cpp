@@ -50,7 +50,7 @@ MapError mapFromBackend(const SlamBackend& backend, const Eigen::Isometry3d& T_o
 MapError loadIntoBackend(const MapData& map, SlamBackend* backend) {
   auto* eskf = dynamic_cast<Eskf*>(backend);
   if (!eskf) return mapError(MapFault::kBadValue, std::string("back end ") + backend->name() + " loads no map");
-  const Status st = eskf->loadMap(toPriorLandmarks(map), map.gravity_direction);
+  const Status st = eskf->loadMap(toPriorLandmarks(map), map.gravity_direction, map.keyframes);
   if (st != Status::kOk) return mapError(MapFault::kBadValue, std::string("the filter refused the map: ") + toString(st));
   return {};
 }

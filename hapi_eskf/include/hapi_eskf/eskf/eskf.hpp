@@ -19,6 +19,7 @@
 
 #include "hapi_eskf/backend/landmark_book.hpp"
 #include "hapi_eskf/backend/relocaliser.hpp"
+#include "hapi_eskf/keyframes/keyframe_relocaliser.hpp"
 #include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/eskf/calibration_block.hpp"
@@ -130,12 +131,21 @@ class Eskf final : public SlamBackend {
   // turns its gravity-aligned world onto the map's gravity (docs/DESIGN.md
   // "Map file"), and a fit must agree with the IMU's tilt
   // (kMapRelocaliseMaxTilt); the yaw and position come from the fit.
-  // kNotInitialised, kInvalidArgument (not freshly reset, descriptor length,
-  // RANSAC off, inertial without gravity direction), kCapacityExceeded (more
-  // than max_landmarks - max_new_landmarks), kNonFinite / kNotPositiveDefinite
-  // (a landmark); the filter is reset again on any error after the first
+  // The map's keyframes (map frame) place the camera where its landmarks
+  // give no fit (an area whose landmarks were evicted before the save):
+  // the placing keyframe's points join the pool as landmarks
+  // (keyframeLandmarks, as many as leave room for max_new_landmarks) and
+  // the frame is associated again at the keyframe fit, so its update ties
+  // the pose to them (IterationReport::keyframe_fit).
+  // kNotInitialised, kInvalidArgument (not freshly reset, descriptor length
+  // of a landmark or keyframe, a keyframe's arrays, RANSAC off, inertial
+  // without gravity direction), kCapacityExceeded (more than max_landmarks -
+  // max_new_landmarks landmarks), kNonFinite / kNotPositiveDefinite (a
+  // landmark); the filter is reset again on any error after the first
   // change, so nothing is loaded half.
-  Status loadMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction = Vec3::Zero());
+  Status loadMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction = Vec3::Zero(),
+                 std::vector<Keyframe> keyframes = {});
+  std::size_t mapKeyframes() const { return map_keyframes_.keyframes().size(); }
   bool awaitingMap() const { return relocaliser_.awaitingMap() || !pending_map_.empty(); }
   static constexpr double kLoadedMapPoseSigmaP = 0.1;      // [m]
   static constexpr double kLoadedMapPoseSigmaTheta = 0.3;  // [rad]
@@ -201,6 +211,13 @@ class Eskf final : public SlamBackend {
   Status checkMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction) const;
   // The map into the pool, the pose block restarting from C_start widened.
   Status applyMap(const std::vector<PriorLandmark>& map, const PoseMat& C_start);
+  // Landmarks with their own covariance, uncorrelated with the state, into
+  // the pool (a loaded map, a placing keyframe's points).
+  Status addPriorLandmarks(const std::vector<PriorLandmark>& landmarks);
+  // Awaiting the map, with no landmark fit: the map keyframes' fit as the
+  // frame's map fit (w.assoc.fit_*), the placing keyframe's points added to
+  // the pool. False when no keyframe places the frame.
+  bool fitOnMapKeyframes(FrameWork& w);
   // The gravity-aligned world turned onto the map's gravity direction.
   void turnWorldTo(const Vec3& gravity_direction);
   // A map fit's camera tilt against the IMU's (kMapRelocaliseMaxTilt).
@@ -243,6 +260,7 @@ class Eskf final : public SlamBackend {
   ImuNoiseEstimator imu_noise_;  // every accepted sample, as read
   SceneMotionMonitor scene_motion_;
   Relocaliser relocaliser_;
+  KeyframeRelocaliser map_keyframes_;  // the loaded map's keyframes (loadMap)
   LandmarkBook book_;  // per slot, same order as the backend's slots
 };
 

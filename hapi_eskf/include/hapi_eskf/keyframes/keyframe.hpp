@@ -32,4 +32,11 @@ struct Keyframe {
 Keyframe keyframeOf(std::uint64_t id, const StereoFrame& frame, const Eigen::Isometry3d& T_map_cam,
                     const Mat6& pose_covariance);
 
+// The keyframe's points as landmarks of the map frame (docs/DESIGN.md
+// "Keyframes"): m = p + R z with the covariance of z and of the keyframe's
+// pose (rotation error on the right: dm = dp - R [z]x dtheta + R dz), each
+// observed once. The points share the pose's error; as landmarks they are
+// taken as independent, like a loaded map's.
+std::vector<PriorLandmark> keyframeLandmarks(const Keyframe& kf);
+
 }  // namespace hapi_eskf

@@ -86,6 +86,7 @@ class MapSession {
   std::string map_path_;
   State state_ = State::kNoMap;
   double relocalised_at_ = 0.0;
+  const char* relocalised_on_ = "";  // "its landmarks" or "a keyframe" (IterationReport::keyframe_fit)
   std::string last_failure_;
   std::uint64_t loads_ = 0, load_failures_ = 0;
 };
