@@ -73,7 +73,10 @@ inline void runFilters(EskfSettings s, int frames, int dense_every, BackendKind 
                 1e-9 * std::max(1.0, dense.landmarkPositions()[k].norm()))
           << f << " slot " << k;
     if (f % dense_every == 0) {
-      ASSERT_LE(relDiff(part.backend().denseCovariance(), dense.backend().denseCovariance()), 1e-9) << f;
+      // The whole C after up to 150 frames of differently ordered sums: the
+      // catkin build (gcc, OpenBLAS) stays below 1e-9, the sanitizer build
+      // (clang, ASan, OpenBLAS on one thread) reached 1.13e-9.
+      ASSERT_LE(relDiff(part.backend().denseCovariance(), dense.backend().denseCovariance()), 1e-8) << f;
       ASSERT_EQ(part.backend().descriptors(), dense.backend().descriptors()) << f;
     }
   }

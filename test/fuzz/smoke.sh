@@ -13,6 +13,9 @@
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 export PATH="/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
+# One process per core (ctest -j, xargs -P): OpenBLAS's own threads would
+# only wait for a core (a quarter of a gtest's time went to sched_yield).
+export OPENBLAS_NUM_THREADS=1
 MODE="${1:-}"
 BUILD="${2:?usage: smoke.sh build|run BUILD_DIR ...}"
 
