@@ -19,7 +19,7 @@ import sys
 ALLOWED = {
     "backend": set(),
     "covariance": {"backend"},
-    "eskf": {"backend", "covariance"},
+    "eskf": {"backend", "covariance", "keyframes"},
     "seif": {"backend", "covariance", "eskf"},
     "graph": {"backend", "covariance", "eskf"},
     "fastslam": {"backend"},

@@ -342,7 +342,6 @@ Status Eskf::addPriorLandmarks(const std::vector<PriorLandmark>& landmarks) {
   return Status::kOk;
 }
 
-
 // The alignment's world is z up at the first camera position with an
 // arbitrary yaw; the map's is the saved one. Turning the first onto the
 // second's gravity (smallest rotation) leaves only a yaw and a position

@@ -19,7 +19,6 @@
 
 #include "hapi_eskf/backend/landmark_book.hpp"
 #include "hapi_eskf/backend/relocaliser.hpp"
-#include "hapi_eskf/keyframes/keyframe_relocaliser.hpp"
 #include "hapi_eskf/backend/slam_backend.hpp"
 #include "hapi_eskf/covariance/covariance_backend.hpp"
 #include "hapi_eskf/eskf/calibration_block.hpp"
@@ -27,6 +26,7 @@
 #include "hapi_eskf/eskf/imu_noise_estimator.hpp"
 #include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/eskf/scene_motion_monitor.hpp"
+#include "hapi_eskf/keyframes/keyframe_relocaliser.hpp"
 #include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/status.hpp"
 #include "hapi_eskf/types.hpp"
