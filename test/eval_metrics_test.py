@@ -169,6 +169,43 @@ class SceneGeometryTest(unittest.TestCase):
         self.assertAlmostEqual(med, 0.01, places=9)
 
 
+class MapGaugeTest(unittest.TestCase):
+    """run_analysis.map_gauge: the trajectory's SE(3) alignment carries the
+    map only when the trajectory fixes its rotation."""
+
+    def map_case(self, t, p, r, noise):
+        """A map 0.3-0.5 m in front of the first pose, and an estimate whose
+        world is turned by 0.2 rad about z and shifted, its positions noisy."""
+        rng = np.random.default_rng(4)
+        truth_map = p[0] + np.column_stack([rng.uniform(-0.1, 0.1, 300), rng.uniform(-0.1, 0.1, 300),
+                                            rng.uniform(0.3, 0.5, 300)])
+        r_w, t_w = rot_z(0.2), np.array([0.1, -0.2, 0.05])  # truth -> estimate world
+        est_p = (r_w @ p.T).T + t_w + noise * rng.normal(size=p.shape)
+        est_r = np.array([r_w @ x for x in r])
+        est_map = (r_w @ truth_map.T).T + t_w
+        se3 = tm.ate(est_p, p)
+        return run_analysis.map_gauge(est_p, est_r, p, r, se3, est_map), truth_map, est_map
+
+    def test_a_trajectory_that_barely_moves_ties_the_map_at_its_first_pose(self):
+        rng = np.random.default_rng(5)
+        t = np.arange(70) * 0.1
+        p = 0.002 * rng.normal(size=(70, 3))  # tremor only
+        r = np.array([np.eye(3)] * 70)
+        (r_map, t_map, name), truth_map, est_map = self.map_case(t, p, r, noise=0.001)
+        self.assertEqual(name, "anchored")
+        # Exact up to the first pose's own noise (1 mm), where the free
+        # alignment's rotation would move points 0.4 m away by centimetres.
+        err = np.linalg.norm((r_map @ est_map.T).T + t_map - truth_map, axis=1)
+        self.assertLess(np.sqrt(np.mean(err ** 2)), 0.004)
+
+    def test_a_wide_trajectory_carries_the_map_by_its_alignment(self):
+        t, p, r = circle_trajectory()
+        (r_map, t_map, name), truth_map, est_map = self.map_case(t, p, r, noise=0.001)
+        self.assertEqual(name, "se3")
+        err = np.linalg.norm((r_map @ est_map.T).T + t_map - truth_map, axis=1)
+        self.assertLess(np.sqrt(np.mean(err ** 2)), 0.001)
+
+
 class FilesAndCliTest(unittest.TestCase):
     def test_asl_ground_truth_to_camera_and_tum_round_trip(self):
         with tempfile.TemporaryDirectory() as d:

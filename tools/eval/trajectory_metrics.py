@@ -137,15 +137,21 @@ def pose_nees(aligned_p, ref_p, est_r, ref_r, r_align, cov6):
     return nees(e_p, c_p), nees(e_r, c_r)
 
 
+def anchor_transform(anchor):
+    """(R, t) that carries the estimate's world into the truth's with the two
+    tied at `anchor` (est_p0, est_r0, ref_p0, ref_r0)."""
+    est_p0, est_r0, ref_p0, ref_r0 = anchor
+    r_a = ref_r0 @ est_r0.T
+    return r_a, ref_p0 - r_a @ est_p0
+
+
 def anchored_errors(est_p, est_r, ref_p, ref_r, anchor):
     """(position errors (N, 3) [m], rotation errors (N, 3) [rad, world axes],
     r_a) with the estimate's frame tied to the truth's at `anchor` (est_p0,
     est_r0, ref_p0, ref_r0): the error of each pose once the estimate and the
     truth agree at that instant. r_a turns the estimate's world into the
     truth's."""
-    est_p0, est_r0, ref_p0, ref_r0 = anchor
-    r_a = ref_r0 @ est_r0.T
-    t_a = ref_p0 - r_a @ est_p0
+    r_a, t_a = anchor_transform(anchor)
     p = (r_a @ np.asarray(est_p).T).T + t_a
     r = np.einsum("ij,njk->nik", r_a, est_r)
     e_p = np.asarray(ref_p) - p
