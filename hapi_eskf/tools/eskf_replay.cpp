@@ -192,6 +192,8 @@ int main(int argc, char** argv) {
   };
   writeAnchorOnce();
   int imu_rejected = 0, awaiting = 0, vision_led = 0, scene_moving = 0, relocalised = 0, errors = 0;
+  int frames_still = 0, zero_velocity_fused = 0;
+  std::vector<double> still_speed;  // per frame with a verdict
   std::vector<double> frame_ms;  // the filter's wall time per processed frame
 
   std::vector<Vec3> est, ref;
@@ -314,6 +316,10 @@ int main(int argc, char** argv) {
     errors += st != Status::kOk;
     vision_led += rep.vision_led;
     scene_moving += rep.scene_moving;
+    frames_still += rep.zero_velocity.still.still;
+    zero_velocity_fused += rep.zero_velocity.fused;
+    if (std::isfinite(rep.zero_velocity.still.median_speed))
+      still_speed.push_back(rep.zero_velocity.still.median_speed);
     if (gtcheck)
       for (const auto& l : eskf.landmarks()) {
         if (before.count(l.id)) continue;
@@ -340,11 +346,12 @@ int main(int argc, char** argv) {
     if (verbose) {
       const NominalState& x = eskf.state();
       std::printf("t=%.2f st=%s meas=%d cand=%d gated=%d upd=%d add=%d rem=%d K=%d nis=%.2f ms=%.1f sig_p=%.4f%s"
-                  " v=(%.3f %.3f %.3f) b_g=(%.4f %.4f %.4f) b_a=(%.3f %.3f %.3f) g=(%.3f %.3f %.3f)\n",
+                  " still_speed=%.4f%s v=(%.3f %.3f %.3f) b_g=(%.4f %.4f %.4f) b_a=(%.3f %.3f %.3f) g=(%.3f %.3f %.3f)\n",
                   frames[fi].stamp - frames[0].stamp, toString(st), rep.n_measurements, rep.n_candidates,
                   rep.n_gated_out, rep.n_updated, rep.n_added, rep.n_removed, rep.n_landmarks, rep.mean_nis,
                   rep.t_total_ms, std::sqrt(eskf.poseCovariance().block<3, 3>(0, 0).trace()),
-                  rep.vision_led ? " VISION" : "", x.v.x(), x.v.y(), x.v.z(), x.b_g.x(), x.b_g.y(), x.b_g.z(),
+                  rep.vision_led ? " VISION" : "", rep.zero_velocity.still.median_speed,
+                  rep.zero_velocity.fused ? " ZUPT" : (rep.zero_velocity.tested ? " ZUPT-gated" : ""), x.v.x(), x.v.y(), x.v.z(), x.b_g.x(), x.b_g.y(), x.b_g.z(),
                   x.b_a.x(), x.b_a.y(), x.b_a.z(), x.g.x(), x.g.y(), x.g.z());
     }
   }
@@ -356,10 +363,20 @@ int main(int argc, char** argv) {
               relocalised, vision_led, scene_moving, errors);
   if (rate_file) std::fclose(rate_file);
   if (map_file) std::fclose(map_file);
-  if (use_imu)
+  if (use_imu) {
     std::printf("motion model %s: %d frames waited for the gravity alignment, %d IMU samples rejected, "
                 "vision led in %d frames (scene moving in %d)\n",
                 toString(s.motion_model), awaiting, imu_rejected, vision_led, scene_moving);
+    std::sort(still_speed.begin(), still_speed.end());
+    const auto pct = [&](double q) {
+      return still_speed.empty() ? std::nan("")
+                                     : still_speed[static_cast<std::size_t>(q * (still_speed.size() - 1))];
+    };
+    std::printf("still frames: %d of %d tested (median apparent speed p10 / p50 / p90 %.4f / %.4f / %.4f m/s), "
+                "%d zero-velocity updates fused\n",
+                frames_still, static_cast<int>(still_speed.size()), pct(0.1), pct(0.5), pct(0.9),
+                zero_velocity_fused);
+  }
   const CalibrationEstimate calib = eskf.calibration();
   if (calib.time_offset_valid)
     std::printf("calibration: time offset %.3f ms (sigma %.3f ms, configured %.3f ms)\n", calib.time_offset * 1e3,

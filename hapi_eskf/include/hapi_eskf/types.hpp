@@ -141,6 +141,25 @@ struct MeasurementOutcome {
   bool added() const { return result == Result::kAdded; }
 };
 
+// A frame's still test (eskf/still_frame_detector.hpp).
+struct StillFrameVerdict {
+  bool still = false;
+  int common = 0;  // landmarks fused in this frame and the previous one
+  double median_speed = std::numeric_limits<double>::quiet_NaN();  // [m/s] across the rays
+};
+
+// What a frame's zero-velocity update did (eskf/zero_velocity_update.hpp),
+// as PX4 ekf2's aid-source status: tested on a still frame, fused unless its
+// test ratio exceeded 1.
+struct ZeroVelocityStatus {
+  StillFrameVerdict still;
+  bool tested = false;
+  bool fused = false;
+  Vec3 innovation = Vec3::Zero();           // 0 - v_hat [m/s]
+  Vec3 innovation_variance = Vec3::Zero();  // diag of S = C_vv + R [m^2/s^2]
+  double test_ratio = std::numeric_limits<double>::quiet_NaN();  // NIS / gate_chi2
+};
+
 // Per-iteration figures for diagnostics and the benchmark (milliseconds).
 struct IterationReport {
   double t_predict_ms = 0, t_association_ms = 0, t_update_ms = 0, t_removal_ms = 0, t_addition_ms = 0,
@@ -158,6 +177,7 @@ struct IterationReport {
   bool keyframe_fit = false;    // relocalised on a keyframe of the loaded map (Eskf::loadMap), not its landmarks
   bool vision_led = false;      // IMU and vision disagreed: pose means moved to the map fit (scene_motion_monitor.hpp)
   bool scene_moving = false;    // ... and the IMU says the device was still: the scanned surface moves
+  ZeroVelocityStatus zero_velocity;
   // One per measurement of the frame, in frame order (back ends on the
   // ES-EKF's host logic; empty from the others).
   std::vector<MeasurementOutcome> measurements;

@@ -63,6 +63,8 @@ Eskf::Eskf(const EskfSettings& settings, std::unique_ptr<CovarianceBackend> back
       calibration_(*model_),
       imu_noise_(settings.imu_noise_window),
       scene_motion_(settings),
+      still_(settings.still_max_speed),
+      zero_velocity_(settings.still_velocity_sigma, settings.gate_chi2, frame_error_.filterDim()),
       relocaliser_(settings),
       map_keyframes_(mapKeyframeSettings(settings)) {
   // Construction never throws; a mismatch is reported by reset()/processFrame().
@@ -100,6 +102,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   map_keyframes_.clear();
   imu_noise_.clear();
   scene_motion_.reset();
+  still_.reset();
   initialised_ = true;
   book_.clear();
   return Status::kOk;
@@ -433,9 +436,11 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
     return finishFrame(w, Status::kOk, report);
   }
   // --- update, remove, add ---
-  st = updateFrame(w);
+  st = updateIfStill(w);
+  if (st == Status::kOk) st = updateFrame(w);
   if (st == Status::kOk) st = removeForAdditions(w);
   if (st == Status::kOk) st = addLandmarks(w);
+  rememberSightings(w);
   return finishFrame(w, st == Status::kOk ? w.result : st, report);
 }
 
@@ -720,6 +725,44 @@ Status Eskf::startLandmarks(FrameWork& w) {
   }
   w.rep.n_added = w.n_add;
   return Status::kOk;
+}
+
+bool Eskf::zeroVelocityUsed() const {
+  return settings_.zero_velocity_update && model_->usesImu() && !model_->sceneMotion().any();
+}
+
+// Before the frame's vision update: the velocity the prediction carries is
+// what a still frame contradicts or not (after it, a young landmark's
+// correction of the pose would have moved the velocity too, and the gate
+// would refuse the zero the frame shows). Not when vision led the frame or
+// the scene's motion is a state of its own (the device's velocity is then
+// not its velocity relative to the scene).
+Status Eskf::updateIfStill(FrameWork& w) {
+  if (!zeroVelocityUsed()) return Status::kOk;
+  std::vector<StillFrameDetector::Sighting> sightings;
+  for (std::size_t i = 0; i < w.frame->measurements.size(); ++i)
+    if (w.assoc.slot[i] >= 0) sightings.push_back({book_.ids()[w.assoc.slot[i]], w.frame->measurements[i].z});
+  ZeroVelocityStatus& zv = w.rep.zero_velocity;
+  zv.still = still_.test(w.frame->stamp, sightings);
+  if (!zv.still.still || w.rep.vision_led || w.rep.relocalised) return Status::kOk;
+  Eigen::VectorXd dx;
+  const Status st = zero_velocity_.apply(backend_.get(), state_.v, &zv, &dx);
+  if (st != Status::kOk || !zv.fused) return st;
+  model_->inject(&state_, calibration_.stateCorrection(frame_error_.poseCorrection(dx)));
+  book_.correct(dx, backend_->poseDim());
+  return Status::kOk;
+}
+
+// The landmarks the frame associated and those it started: the next
+// frame's still test compares its own with both (so the second frame
+// after a start can be still).
+void Eskf::rememberSightings(const FrameWork& w) {
+  if (!zeroVelocityUsed()) return;
+  std::vector<StillFrameDetector::Sighting> sightings;
+  for (const MeasurementOutcome& o : w.rep.measurements)
+    if (o.landmark_id != 0 && (o.associated || o.added()))
+      sightings.push_back({o.landmark_id, w.frame->measurements[o.measurement].z});
+  still_.remember(w.frame->stamp, sightings);
 }
 
 // Every exit: the frame's backend calls are done, so work the backend

@@ -464,6 +464,9 @@ bool EskfNodelet::process(Work& w) {
     return true;
   }
   if (rep.vision_led) ++count.frames_vision_led;
+  if (rep.zero_velocity.still.still) ++count.frames_still;
+  if (rep.zero_velocity.fused) ++count.zero_velocity_fused;
+  if (rep.zero_velocity.tested && !rep.zero_velocity.fused) ++count.zero_velocity_rejected;
   if (rep.scene_moving) {
     ++count.frames_scene_moving;
     NODELET_WARN_THROTTLE(2.0, "the scanned surface moves while the device is still: tracking relative to the surface");

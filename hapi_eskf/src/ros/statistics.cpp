@@ -177,6 +177,9 @@ void NodeletStatistics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& st
     stat.add("frames_awaiting_imu", awaiting);
     stat.add("frames_vision_led", vision_led);
     stat.add("frames_scene_moving", scene_moving);
+    stat.add("frames_still", counters.frames_still.load());
+    stat.add("zero_velocity_fused", counters.zero_velocity_fused.load());
+    stat.add("zero_velocity_rejected", counters.zero_velocity_rejected.load());
     // The in-situ white-noise densities per IMU axis (0: not measured, or
     // imu_noise_in_situ off); the prediction takes the larger of these and
     // gyro_noise_density / accel_noise_density.

@@ -26,6 +26,8 @@
 #include "hapi_eskf/eskf/imu_noise_estimator.hpp"
 #include "hapi_eskf/eskf/motion_model.hpp"
 #include "hapi_eskf/eskf/scene_motion_monitor.hpp"
+#include "hapi_eskf/eskf/still_frame_detector.hpp"
+#include "hapi_eskf/eskf/zero_velocity_update.hpp"
 #include "hapi_eskf/keyframes/keyframe_relocaliser.hpp"
 #include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/status.hpp"
@@ -189,6 +191,12 @@ class Eskf final : public SlamBackend {
   Status removeForAdditions(FrameWork& w);
   Status addLandmarks(FrameWork& w);
   Status startLandmarks(FrameWork& w);
+  // The zero-velocity update (zero_velocity_update.hpp): with these settings and model.
+  bool zeroVelocityUsed() const;
+  // A still frame's zero-velocity update, before its vision update.
+  Status updateIfStill(FrameWork& w);
+  // The frame's sightings for the next frame's still test.
+  void rememberSightings(const FrameWork& w);
   // Every exit: closes the frame's backend work and hands out the report.
   Status finishFrame(FrameWork& w, Status s, IterationReport* report);
   Status predictStepTo(double stamp, const ImuSample* imu);
@@ -259,6 +267,8 @@ class Eskf final : public SlamBackend {
   bool velocity_measured_ = false;  // PoseBlockState::velocity_measured
   ImuNoiseEstimator imu_noise_;  // every accepted sample, as read
   SceneMotionMonitor scene_motion_;
+  StillFrameDetector still_;
+  ZeroVelocityUpdate zero_velocity_;
   Relocaliser relocaliser_;
   KeyframeRelocaliser map_keyframes_;  // the loaded map's keyframes (loadMap)
   LandmarkBook book_;  // per slot, same order as the backend's slots

@@ -46,6 +46,8 @@ class NodeletStatistics {
     Counter imu_gaps{0};
     Counter frames_awaiting_imu{0};  // inertial model not yet aligned to gravity
     Counter frames_vision_led{0}, frames_scene_moving{0};  // IMU and vision disagreed (scene_motion_monitor.hpp)
+    // Still frames and their zero-velocity updates (eskf/zero_velocity_update.hpp).
+    Counter frames_still{0}, zero_velocity_fused{0}, zero_velocity_rejected{0};
     Counter outputs{0};      // odom/pose/TF outputs (per frame, or per IMU sample with an IMU model)
     Counter imu_outputs{0};  // of which from the IMU-rate propagation
     Counter imu_outputs_held{0};  // IMU samples without output: velocity not yet measured (pose_propagator.hpp)
