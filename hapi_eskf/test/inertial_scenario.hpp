@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace hapi_eskf {
 namespace sim {
@@ -88,6 +89,16 @@ inline ImuSample imuSample(const InertialTrajectory& traj, const ImuNoiseModel& 
   s.gyro = b.omega + n.b_g + n.gyro_density / std::sqrt(dt) * drawVec3(g, rng);
   s.accel = R.transpose() * (b.a - kGravity) + n.b_a + n.accel_density / std::sqrt(dt) * drawVec3(g, rng);
   return s;
+}
+
+// The samples of an IMU at period dt from sample *k on, up to time t (the
+// ones a filter takes before the frame at t); *k moves past them. The
+// noise is drawn in sample order, as one imuSample() call each.
+inline std::vector<ImuSample> imuSamplesUpTo(const InertialTrajectory& traj, const ImuNoiseModel& n, double t, int* k,
+                                             std::mt19937& rng, double dt = 0.005) {
+  std::vector<ImuSample> out;
+  for (; *k * dt <= t + 1e-9; ++*k) out.push_back(imuSample(traj, n, *k * dt, dt, rng));
+  return out;
 }
 
 // The camera pose of a body truth through the extrinsic.

@@ -192,8 +192,7 @@ FilterRun runInertial(double rotation_sigma, double translation_sigma, double du
   int k_imu = 1;
   for (int k = 1; k * 0.1 <= duration; ++k) {
     const double t = k * 0.1;
-    for (; k_imu * 0.005 <= t + 1e-9; ++k_imu)
-      EXPECT_EQ(f.addImu(sim::imuSample(traj, noise, k_imu * 0.005, 0.005, rng)), Status::kOk);
+    for (const ImuSample& m : sim::imuSamplesUpTo(traj, noise, t, &k_imu, rng)) EXPECT_EQ(f.addImu(m), Status::kOk);
     PoseState cam = sim::cameraOf(traj.at(t), e);
     cam.p -= origin;
     const Status st = f.processFrame(sim::makeFrame(world, cam, rig, t, 4, rng));

@@ -389,12 +389,10 @@ InertialRun runInertial(unsigned seed, double duration, const sim::ImuNoiseModel
   // truth's body starts level, so the yaw agrees).
   const Vec3 origin = sim::cameraOf(traj.at(0.0), e).p;
   InertialRun r;
-  const double dt_imu = 0.005;
   int k_imu = 1;
   for (int k = 1; k * 0.1 <= duration; ++k) {
     const double t = k * 0.1;
-    for (; k_imu * dt_imu <= t + 1e-9; ++k_imu)
-      EXPECT_EQ(f.addImu(sim::imuSample(traj, noise, k_imu * dt_imu, dt_imu, rng)), Status::kOk);
+    for (const ImuSample& m : sim::imuSamplesUpTo(traj, noise, t, &k_imu, rng)) EXPECT_EQ(f.addImu(m), Status::kOk);
     PoseState cam = sim::cameraOf(traj.at(t), e);
     cam.p -= origin;
     const StereoFrame frame = sim::makeFrame(world, cam, rig, t, 4, rng);

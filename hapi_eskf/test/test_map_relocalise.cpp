@@ -328,8 +328,7 @@ InertialSession inertialSession(const sim::World& scene, const Eigen::Isometry3d
   for (int k = 1; k * 0.1 <= duration + 1e-9; ++k) {
     const double t = k * 0.1;
     // The IMU reads the same in the turned body: a turn about gravity.
-    for (; k_imu * 0.005 <= t + 1e-9; ++k_imu)
-      EXPECT_EQ(f.addImu(sim::imuSample(traj, noise, k_imu * 0.005, 0.005, rng)), Status::kOk);
+    for (const ImuSample& m : sim::imuSamplesUpTo(traj, noise, t, &k_imu, rng)) EXPECT_EQ(f.addImu(m), Status::kOk);
     PoseState cam = sim::cameraOf(traj.at(t), e);
     cam.p = move * cam.p;
     cam.q = Eigen::Quaterniond(move.linear()) * cam.q;

@@ -162,11 +162,9 @@ RestRun runRest(double rest, double duration, bool zero_velocity_update) {
   RestRun r;
   double sum_v2 = 0.0;
   int n_rest = 0, k_imu = 1;
-  const double dt_imu = 0.005;
   for (int k = 1; k * 0.1 <= duration; ++k) {
     const double t = k * 0.1;
-    for (; k_imu * dt_imu <= t + 1e-9; ++k_imu)
-      EXPECT_EQ(f.addImu(sim::imuSample(traj, noise, k_imu * dt_imu, dt_imu, rng)), Status::kOk);
+    for (const ImuSample& m : sim::imuSamplesUpTo(traj, noise, t, &k_imu, rng)) EXPECT_EQ(f.addImu(m), Status::kOk);
     PoseState cam = sim::cameraOf(traj.at(t), e);
     cam.p -= origin;
     IterationReport rep;

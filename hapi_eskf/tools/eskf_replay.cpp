@@ -346,13 +346,15 @@ int main(int argc, char** argv) {
     if (verbose) {
       const NominalState& x = eskf.state();
       std::printf("t=%.2f st=%s meas=%d cand=%d gated=%d upd=%d add=%d rem=%d K=%d nis=%.2f ms=%.1f sig_p=%.4f%s"
-                  " still_speed=%.4f%s v=(%.3f %.3f %.3f) b_g=(%.4f %.4f %.4f) b_a=(%.3f %.3f %.3f) g=(%.3f %.3f %.3f)\n",
+                  " still_speed=%.4f%s v=(%.3f %.3f %.3f) b_g=(%.4f %.4f %.4f) b_a=(%.3f %.3f %.3f)"
+                  " g=(%.3f %.3f %.3f)\n",
                   frames[fi].stamp - frames[0].stamp, toString(st), rep.n_measurements, rep.n_candidates,
                   rep.n_gated_out, rep.n_updated, rep.n_added, rep.n_removed, rep.n_landmarks, rep.mean_nis,
                   rep.t_total_ms, std::sqrt(eskf.poseCovariance().block<3, 3>(0, 0).trace()),
                   rep.vision_led ? " VISION" : "", rep.zero_velocity.still.median_speed,
-                  rep.zero_velocity.fused ? " ZUPT" : (rep.zero_velocity.tested ? " ZUPT-gated" : ""), x.v.x(), x.v.y(), x.v.z(), x.b_g.x(), x.b_g.y(), x.b_g.z(),
-                  x.b_a.x(), x.b_a.y(), x.b_a.z(), x.g.x(), x.g.y(), x.g.z());
+                  rep.zero_velocity.fused ? " ZUPT" : (rep.zero_velocity.tested ? " ZUPT-gated" : ""), x.v.x(),
+                  x.v.y(), x.v.z(), x.b_g.x(), x.b_g.y(), x.b_g.z(), x.b_a.x(), x.b_a.y(), x.b_a.z(), x.g.x(),
+                  x.g.y(), x.g.z());
     }
   }
   if (est_file) std::fclose(est_file);

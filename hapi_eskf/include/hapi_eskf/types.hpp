@@ -144,7 +144,7 @@ struct MeasurementOutcome {
 // A frame's still test (eskf/still_frame_detector.hpp).
 struct StillFrameVerdict {
   bool still = false;
-  int common = 0;  // landmarks fused in this frame and the previous one
+  int common = 0;  // landmarks this frame associated that the previous frame saw
   double median_speed = std::numeric_limits<double>::quiet_NaN();  // [m/s] across the rays
 };
 

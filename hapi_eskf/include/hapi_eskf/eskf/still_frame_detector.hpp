@@ -5,8 +5,8 @@
 // as much as a hand's slow motion. The images can: a landmark seen in two
 // consecutive frames keeps its bearing when the camera does not move.
 //
-// Per frame: for every landmark fused in this frame and in the previous
-// one, the speed across its ray that would turn its bearing by what it
+// Per frame: for every landmark this frame associated that the previous
+// frame also saw, the speed across its ray that would turn its bearing by what it
 // turned between the two frames, angle * range / dt; the frame is still
 // when the median of those is below still_max_speed over at least
 // kStillMinCommonLandmarks landmarks. A speed, not a pixel threshold
@@ -14,7 +14,6 @@
 // 1.5 mm of motion on skin at 30 cm and 1.5 cm on a wall at 3 m.
 #pragma once
 
-#include "hapi_eskf/settings.hpp"
 #include "hapi_eskf/types.hpp"
 
 #include <cstdint>
@@ -31,7 +30,7 @@ class StillFrameDetector {
  public:
   explicit StillFrameDetector(double max_speed) : max_speed_(max_speed) {}
 
-  // One fused measurement of a frame: its landmark and where the frame saw it.
+  // One measurement of a frame: its landmark and where the frame saw it.
   struct Sighting {
     uint64_t landmark_id = 0;
     Vec3 z = Vec3::Zero();  // camera frame [m]
