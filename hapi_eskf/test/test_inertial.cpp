@@ -611,6 +611,50 @@ TEST(InertialFilter, ChainedPredictionEqualsStepByStep) {
   EXPECT_GT(C.bottomLeftCorner(n - P, P).norm(), 0.0);  // the cross block took part
 }
 
+// The world is the first camera's (docs/DESIGN.md "Inertial
+// initialisation"): the alignment completes with its window's last sample,
+// the first frame comes 0.1 s later and aligns again over the window grown
+// to its stamp. Its camera then has the initial pose sigmas, not the
+// moving start's velocity and gyro-bias uncertainty predicted over the gap
+// (0.2 m/s and 0.1 rad/s for 0.1 s: 2 cm and 0.6 deg), and so do the
+// landmarks it starts.
+TEST(InertialFilter, TheFirstFrameAlignsAgainSoTheWorldIsItsCamera) {
+  EskfSettings s = inertialSettings();
+  s.static_sigma_velocity = 1e-6;  // a moving start (the trajectory accelerates smoothly)
+  std::mt19937 rng(6);
+  const sim::StereoRig rig;
+  const sim::World world = sim::randomWorld(rng, 3000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
+  const sim::InertialTrajectory traj;
+  const sim::ImuNoiseModel noise;
+  const CameraExtrinsic e = sim::forwardCamera();
+  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), e);
+  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+  int k = 1;
+  for (; f.awaitingAlignment(); ++k) ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, 0.005 * k, 0.005, rng)), Status::kOk);
+  const double t_aligned = f.time(), t_frame = 0.005 * (k + 19);
+  for (; 0.005 * k <= t_frame + 1e-9; ++k)
+    ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, 0.005 * k, 0.005, rng)), Status::kOk);
+  const double sigma_p_before = std::sqrt(f.cameraCovariance().block<3, 3>(0, 0).trace() / 3.0);
+  const PoseState cam = sim::cameraOf(traj.at(t_frame), e);
+  ASSERT_EQ(f.processFrame(sim::makeFrame(world, cam, rig, t_frame, 0, rng)), Status::kOk);
+  const Mat12 C = f.cameraCovariance();
+  const double sigma_p = std::sqrt(C.block<3, 3>(0, 0).trace() / 3.0), sigma_r = std::sqrt(C.block<3, 3>(3, 3).trace() / 3.0);
+  std::printf("aligned at %.3f s, first frame at %.3f s: camera 1 sigma %.2f mm / %.3f deg (%.1f mm predicted over the gap)\n",
+              t_aligned, t_frame, 1e3 * sigma_p, sigma_r * 180.0 / M_PI, 1e3 * sigma_p_before);
+  EXPECT_NEAR(t_frame - t_aligned, 0.1, 1e-9);
+  EXPECT_GT(sigma_p_before, 0.01);
+  EXPECT_LT(sigma_p, 2.0 * s.initial_sigma_position);
+  EXPECT_LT(sigma_r, 2.0 * s.initial_sigma_orientation);
+  EXPECT_EQ(f.time(), t_frame);
+  EXPECT_LT(f.frameCamera().p.norm(), 1e-9);  // the origin is this camera
+  // And the filter goes on from there.
+  const double t_next = t_frame + 0.1;
+  for (; 0.005 * k <= t_next + 1e-9; ++k) ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, 0.005 * k, 0.005, rng)), Status::kOk);
+  const PoseState cam2 = sim::cameraOf(traj.at(t_next), e);
+  ASSERT_EQ(f.processFrame(sim::makeFrame(world, cam2, rig, t_next, 1, rng)), Status::kOk);
+  EXPECT_EQ(f.time(), t_next);
+}
+
 // Bad IMU input never changes the state: non-finite samples, samples before
 // the filter time, and IMU samples to a model without IMU.
 TEST(InertialFilter, BadImuInputLeavesTheStateUnchanged) {

@@ -1,7 +1,8 @@
 // The zero-velocity update of a still frame (eskf/zero_velocity_update.hpp,
 // eskf/still_frame_detector.hpp, docs/DESIGN.md "Zero-velocity update"):
-//  * the swap transition, the 3-row update and the swap back equal the
-//    dense Kalman update of the velocity (correction and covariance);
+//  * the transition, the 3-row update and the transition back equal the
+//    dense Kalman update of the interval's mean velocity (correction and
+//    covariance); the mean itself;
 //  * a velocity the filter is sure of and that contradicts zero is gated
 //    out and changes nothing; so is a pool without landmarks;
 //  * the still test: bearings that keep within their re-detection noise are
@@ -37,30 +38,59 @@ std::unique_ptr<CovarianceBackend> filledBackend(int K, testing_random::Rng& rng
   return backend;
 }
 
-TEST(ZeroVelocityUpdate, EqualsTheDenseKalmanUpdateOfTheVelocity) {
-  testing_random::Rng rng(3);
-  auto backend = filledBackend(4, rng);
-  const Eigen::MatrixXd C0 = backend->denseCovariance();
-  const int n = static_cast<int>(C0.rows());
-  const double sigma = 0.003;
-  const Vec3 v_hat(0.004, -0.002, 0.001);
-  ZeroVelocityUpdate zv(sigma, 1e6, backend->poseDim());
-  ZeroVelocityStatus status;
-  Eigen::VectorXd dx;
-  ASSERT_EQ(zv.apply(backend.get(), v_hat, &status, &dx), Status::kOk);
-  ASSERT_TRUE(status.fused);
+// Both measured combinations: the velocity alone (a model without
+// acceleration) and the inertial model's interval mean, which also holds
+// orientation, accelerometer bias and gravity.
+TEST(ZeroVelocityUpdate, EqualsTheDenseKalmanUpdateOfTheMeanVelocity) {
+  for (const bool inertial : {false, true}) {
+    testing_random::Rng rng(3);
+    auto backend = filledBackend(4, rng);
+    const Eigen::MatrixXd C0 = backend->denseCovariance();
+    const int n = static_cast<int>(C0.rows());
+    const double sigma = 0.003;
+    const Vec3 v_hat(0.004, -0.002, 0.001);
+    const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(0.2, -0.5, 1.0).normalized()).toRotationMatrix();
+    const auto J = meanVelocityJacobian(inertial, R, Vec3(0.3, -0.2, 9.7), 0.1, kInertialDim);
+    ZeroVelocityUpdate zv(sigma, 1e6, backend->poseDim());
+    ZeroVelocityStatus status;
+    Eigen::VectorXd dx;
+    ASSERT_EQ(zv.apply(backend.get(), v_hat, J, &status, &dx), Status::kOk);
+    ASSERT_TRUE(status.fused);
 
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, n);
-  H.block<3, 3>(0, kIdxV).setIdentity();
-  const Eigen::MatrixXd S = H * C0 * H.transpose() + sigma * sigma * Eigen::MatrixXd::Identity(3, 3);
-  const Eigen::MatrixXd K = C0 * H.transpose() * S.inverse();
-  const Eigen::VectorXd dx_ref = K * (-v_hat);
-  const Eigen::MatrixXd C_ref = C0 - K * S * K.transpose();
-  ASSERT_EQ(dx.size(), n);
-  EXPECT_LT((dx - dx_ref).cwiseAbs().maxCoeff(), 1e-12) << (dx - dx_ref).transpose();
-  EXPECT_LT((backend->denseCovariance() - C_ref).cwiseAbs().maxCoeff(), 1e-12);
-  EXPECT_NEAR(status.test_ratio * 1e6, (-v_hat).dot(S.ldlt().solve(-v_hat)), 1e-9);
-  EXPECT_LT((status.innovation_variance - S.diagonal()).cwiseAbs().maxCoeff(), 1e-15);
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, n);
+    H.leftCols(J.cols()) = J;
+    EXPECT_EQ((H.block<3, 3>(0, kIdxG).norm() > 0.0), inertial);
+    const Eigen::MatrixXd S = H * C0 * H.transpose() + sigma * sigma * Eigen::MatrixXd::Identity(3, 3);
+    const Eigen::MatrixXd K = C0 * H.transpose() * S.inverse();
+    const Eigen::VectorXd dx_ref = K * (-v_hat);
+    const Eigen::MatrixXd C_ref = C0 - K * S * K.transpose();
+    ASSERT_EQ(dx.size(), n);
+    EXPECT_LT((dx - dx_ref).cwiseAbs().maxCoeff(), 1e-12) << (dx - dx_ref).transpose();
+    EXPECT_LT((backend->denseCovariance() - C_ref).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_NEAR(status.test_ratio * 1e6, (-v_hat).dot(S.ldlt().solve(-v_hat)), 1e-9);
+    EXPECT_LT((status.innovation_variance - S.diagonal()).cwiseAbs().maxCoeff(), 1e-15);
+  }
+}
+
+// The interval's mean velocity: the trapezoid rule over the steps, the
+// current velocity when nothing was predicted.
+TEST(ZeroVelocityUpdate, IntervalVelocityIsTheMeanOverTheSteps) {
+  IntervalVelocity iv;
+  EXPECT_EQ(iv.meanVelocity(Vec3(1, 2, 3)), Vec3(1, 2, 3));
+  // v(t) = 0.01 sin(2 pi 17 t) over one period: mean 0, in 200 Hz steps.
+  double t = 0.0;
+  Vec3 v = Vec3::Zero();
+  while (t < 1.0 / 17.0 - 1e-12) {
+    const double t1 = std::min(t + 0.001, 1.0 / 17.0);
+    const Vec3 v1(0.01 * std::sin(2 * M_PI * 17 * t1), 0.0, 0.002);
+    iv.add(t, v, t1, v1);
+    t = t1;
+    v = v1;
+  }
+  EXPECT_NEAR(iv.duration(), 1.0 / 17.0, 1e-12);
+  EXPECT_LT(std::abs(iv.meanVelocity(v).x()), 1e-5);
+  iv.restart();
+  EXPECT_EQ(iv.duration(), 0.0);
 }
 
 TEST(ZeroVelocityUpdate, AContradictedVelocityOrAnEmptyPoolChangesNothing) {
@@ -70,8 +100,9 @@ TEST(ZeroVelocityUpdate, AContradictedVelocityOrAnEmptyPoolChangesNothing) {
   ZeroVelocityUpdate zv(0.003, 11.345, backend->poseDim());
   ZeroVelocityStatus status;
   Eigen::VectorXd dx;
+  const auto J = meanVelocityJacobian(true, Mat3::Identity(), Vec3(0, 0, 9.81), 0.1, kInertialDim);
   // 1 m/s against a velocity sigma of about 0.01 m/s: far outside the gate.
-  ASSERT_EQ(zv.apply(backend.get(), Vec3(1.0, 0.0, 0.0), &status, &dx), Status::kOk);
+  ASSERT_EQ(zv.apply(backend.get(), Vec3(1.0, 0.0, 0.0), J, &status, &dx), Status::kOk);
   EXPECT_TRUE(status.tested);
   EXPECT_FALSE(status.fused);
   EXPECT_GT(status.test_ratio, 1.0);
@@ -79,7 +110,7 @@ TEST(ZeroVelocityUpdate, AContradictedVelocityOrAnEmptyPoolChangesNothing) {
 
   auto empty = filledBackend(0, rng);
   const Eigen::MatrixXd E0 = empty->denseCovariance();
-  ASSERT_EQ(zv.apply(empty.get(), Vec3::Zero(), &status, &dx), Status::kOk);
+  ASSERT_EQ(zv.apply(empty.get(), Vec3::Zero(), J, &status, &dx), Status::kOk);
   EXPECT_FALSE(status.fused);
   EXPECT_EQ(empty->denseCovariance(), E0);
 }

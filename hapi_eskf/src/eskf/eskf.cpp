@@ -98,11 +98,14 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   velocity_measured_ = false;  // the initial velocity is a guess
   awaiting_alignment_ = model_->kind() == MotionModelKind::kInertial;
   alignment_samples_.clear();
+  realign_at_first_frame_ = false;
+  start_samples_.clear();
   pending_map_.clear();
   map_keyframes_.clear();
   imu_noise_.clear();
   scene_motion_.reset();
   still_.reset();
+  still_interval_.restart();
   initialised_ = true;
   book_.clear();
   return Status::kOk;
@@ -142,6 +145,8 @@ Status Eskf::restartExtrinsicPrior() {
 // runs once per frame instead of once per IMU sample.
 Status Eskf::predictStepTo(double stamp, const ImuSample* imu) {
   const NominalState* lin = settings_.first_estimate_jacobians ? &lin_ : nullptr;
+  const Vec3 v_before = state_.v;
+  const double t_before = time_;
   const Status st = predictStep(*model_, &state_, &time_, stamp, imu, [this](const PoseMat& F, const PoseMat& Q) {
     const PoseMat F_acc = F * pending_F_;
     PoseMat Q_acc = F * pending_Q_ * F.transpose() + Q;
@@ -152,7 +157,9 @@ Status Eskf::predictStepTo(double stamp, const ImuSample* imu) {
     pending_steps_ = true;
     return Status::kOk;
   }, lin);
-  if (st == Status::kOk) advanceFirstEstimates();
+  if (st != Status::kOk) return st;
+  advanceFirstEstimates();
+  still_interval_.add(t_before, v_before, time_, state_.v);
   return st;
 }
 
@@ -198,10 +205,15 @@ Status Eskf::addImu(const ImuSample& sample) {
     return Status::kOk;
   }
   if (settings_.imu_noise_in_situ) imu_noise_.add(sample);
+  if (realign_at_first_frame_) start_samples_.push_back(sample);
+  holdImu(sample);
+  return predictHeldImu(sample.stamp);
+}
+
+void Eskf::holdImu(const ImuSample& sample) {
   ImuSample moved = model_->onEstimatedClock(sample, state_);
   if (!held_imu_.empty()) moved.stamp = std::max(moved.stamp, held_imu_.back().stamp);
   held_imu_.push_back(moved);
-  return predictHeldImu(sample.stamp);
 }
 
 // In order; a sample an offset correction moved before the filter time is
@@ -243,6 +255,10 @@ Status Eskf::align() {
   time_ = alignment_samples_.back().stamp;
   relocaliser_.reset(time_);
   for (const ImuSample& m : alignment_samples_) scene_motion_.addImu(m, state_.b_g);
+  // A loaded map is placed by this alignment; without one the first frame
+  // aligns again over its own window.
+  realign_at_first_frame_ = pending_map_.empty();
+  start_samples_ = realign_at_first_frame_ ? std::move(alignment_samples_) : std::vector<ImuSample>();
   alignment_samples_.clear();
   awaiting_alignment_ = false;
   velocity_measured_ = start.still;  // zero, measured by the still window
@@ -251,6 +267,42 @@ Status Eskf::align() {
   map.swap(pending_map_);
   turnWorldTo(pending_gravity_);
   return applyMap(map, start.C);
+}
+
+// The alignment's state sits at its window's last sample, and the first
+// frame comes up to a frame interval later. Predicted over that gap, the
+// first camera would carry the gap's share of a moving start's velocity and
+// gyro-bias uncertainty (0.2 m/s and 0.1 rad/s over 0.1 s: 2-3 cm and
+// 0.6 deg), and so would every landmark the frame starts: the map would
+// rest on a pose whose position and turn nothing observes, and the
+// linearised updates of the next frames turn pose and map together (0.5 deg
+// and 4-8 mm over EuRoC's standstill). So the first frame aligns again, over
+// the window grown up to its stamp, and the world is that camera's (docs/
+// DESIGN.md "Inertial initialisation"). The alignment decides still or
+// moving again over the longer window. Without landmarks in the pool the
+// pose block is all there is to restart; a map loaded before the alignment
+// was placed by it and stays.
+Status Eskf::realignAtFirstFrame(double stamp) {
+  if (!realign_at_first_frame_) return Status::kOk;
+  realign_at_first_frame_ = false;
+  std::vector<ImuSample> window, later;
+  for (const ImuSample& m : start_samples_)
+    (model_->onEstimatedClock(m, state_).stamp <= stamp ? window : later).push_back(m);
+  start_samples_.clear();
+  if (book_.size() != 0 || window.size() < 2) return Status::kOk;
+  // The in-situ noise has seen every sample once and keeps them.
+  alignment_samples_ = std::move(window);
+  scene_motion_.reset();
+  Status st = align();
+  realign_at_first_frame_ = false;
+  start_samples_.clear();
+  // No direction over the longer window (align() changed nothing): the
+  // state predicted from the first alignment goes on.
+  if (st == Status::kEmptyInput) return Status::kOk;
+  if (st != Status::kOk) return st;
+  // Samples after the frame wait for the next one, as when they arrive.
+  for (const ImuSample& m : later) holdImu(m);
+  return Status::kOk;
 }
 
 void Eskf::refreshImuNoise() {
@@ -419,6 +471,7 @@ Status Eskf::processFrame(const StereoFrame& frame_in, IterationReport* report) 
   FrameWork w(frame_in, numLandmarks());
   // Everything that can be wrong with the input is found here, before any change.
   Status st = admitFrame(frame_in);
+  if (st == Status::kOk) st = realignAtFirstFrame(frame_in.stamp);
   if (st != Status::kOk) return finishFrame(w, st, report);
   w.frame = &withRedetectionNoise(frame_in, &w.inflated);
   // The samples held for the estimated time offset up to the frame.
@@ -746,7 +799,10 @@ Status Eskf::updateIfStill(FrameWork& w) {
   zv.still = still_.test(w.frame->stamp, sightings);
   if (!zv.still.still || w.rep.vision_led || w.rep.relocalised) return Status::kOk;
   Eigen::VectorXd dx;
-  const Status st = zero_velocity_.apply(backend_.get(), state_.v, &zv, &dx);
+  const Mat3 R_wb = state_.q.toRotationMatrix();
+  const auto J = meanVelocityJacobian(model_->kind() == MotionModelKind::kInertial, R_wb, state_.f - state_.b_a,
+                                      still_interval_.duration(), model_->poseDim());
+  const Status st = zero_velocity_.apply(backend_.get(), still_interval_.meanVelocity(state_.v), J, &zv, &dx);
   if (st != Status::kOk || !zv.fused) return st;
   model_->inject(&state_, calibration_.stateCorrection(frame_error_.poseCorrection(dx)));
   book_.correct(dx, backend_->poseDim());
@@ -763,6 +819,7 @@ void Eskf::rememberSightings(const FrameWork& w) {
     if (o.landmark_id != 0 && (o.associated || o.added()))
       sightings.push_back({o.landmark_id, w.frame->measurements[o.measurement].z});
   still_.remember(w.frame->stamp, sightings);
+  still_interval_.restart();
 }
 
 // Every exit: the frame's backend calls are done, so work the backend

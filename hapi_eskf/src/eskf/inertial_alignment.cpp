@@ -37,6 +37,7 @@ Status alignInertialStart(const std::vector<ImuSample>& window, const MotionMode
     // that uncertain (fast turns: metres per second squared, tens of degrees).
     const double sigma_g = std::max(s.initial_sigma_gravity, r.window.accel_spread);
     r.C.block<3, 3>(kIdxG, kIdxG) = Mat3::Identity() * sigma_g * sigma_g;
+    r.x.v = q_wb * r.window.velocity_end;
   }
   if (r.still) {
     r.x.b_g = w_mean;

@@ -215,6 +215,12 @@ class Eskf final : public SlamBackend {
   void refreshImuNoise();
   void advanceFirstEstimates();
   Status align();
+  // The first frame after the alignment: the alignment again, over the
+  // samples from the window's start up to the frame (docs/DESIGN.md
+  // "Inertial initialisation": the world is the first camera's).
+  Status realignAtFirstFrame(double stamp);
+  // A sample after the alignment into held_imu_ (on the estimated clock).
+  void holdImu(const ImuSample& sample);
   // loadMap's checks of the map before any change.
   Status checkMap(const std::vector<PriorLandmark>& map, const Vec3& gravity_direction) const;
   // The map into the pool, the pose block restarting from C_start widened.
@@ -256,6 +262,10 @@ class Eskf final : public SlamBackend {
   // Inertial model: samples collected for the gravity alignment until it is done.
   bool awaiting_alignment_ = false;
   std::vector<ImuSample> alignment_samples_;
+  // From the alignment to the first frame: every sample since the window
+  // opened (realignAtFirstFrame), as read.
+  bool realign_at_first_frame_ = false;
+  std::vector<ImuSample> start_samples_;
   // Inertial model: a map loaded before the alignment, applied by it.
   std::vector<PriorLandmark> pending_map_;
   Vec3 pending_gravity_ = Vec3::Zero();
@@ -268,6 +278,7 @@ class Eskf final : public SlamBackend {
   ImuNoiseEstimator imu_noise_;  // every accepted sample, as read
   SceneMotionMonitor scene_motion_;
   StillFrameDetector still_;
+  IntervalVelocity still_interval_;  // the nominal velocity's mean since the still test's previous frame
   ZeroVelocityUpdate zero_velocity_;
   Relocaliser relocaliser_;
   KeyframeRelocaliser map_keyframes_;  // the loaded map's keyframes (loadMap)

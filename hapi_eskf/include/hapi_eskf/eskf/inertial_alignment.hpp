@@ -10,9 +10,11 @@
 //    mean acceleration over the window (a hand's motion averages out), so
 //    gravity gets a 1 sigma of the accelerometer's spread over the window
 //    when that exceeds initial_sigma_gravity; the gyro bias starts at zero
-//    (initial_sigma_gyro_bias) and the velocity at zero with
-//    initial_sigma_velocity: the first visual updates determine them, since
-//    the landmarks' apparent motion measures the camera's velocity and tilt.
+//    (initial_sigma_gyro_bias); the velocity is the one whose mean over the
+//    window is zero (the hand moves about a place: ImuWindowStats::
+//    velocity_end), with initial_sigma_velocity. The first visual updates
+//    determine them, since the landmarks' apparent motion measures the
+//    camera's velocity and tilt.
 // Either way the gravity vector stays a state with initial_sigma_gravity per
 // component (the tilt's uncertainty, mostly the unknown accelerometer bias).
 #pragma once
@@ -50,6 +52,10 @@ struct ImuWindowStats {
   // RMS deviation of v(t) = integral of (f - mean f) dt from its own mean:
   // how much the velocity changed within the window [m/s].
   double velocity_rms = 0.0;
+  // v(T) minus the mean of v(t) over the window [m/s], body axes: the
+  // velocity at the window's end if the mean velocity over the window is
+  // zero (a hand's motion about a place; no rotation over the window).
+  Vec3 velocity_end = Vec3::Zero();
   // Least-squares rate of change of the specific force over the window
   // [m/s^3]: a turn at rate w rotates gravity in the body frame,
   // df/dt = -w x f; a gyro bias does not.
@@ -135,6 +141,7 @@ ImuWindowStats imuWindowStats(Iterator begin, Iterator end, const Vec3& gyro_bia
   r.gyro_block_spread = std::sqrt(g2 / blocks);
   r.accel_spread = std::sqrt(f2 / n);
   r.velocity_rms = std::sqrt(std::max(0.0, v2 / n - (v_sum / n).squaredNorm()));
+  r.velocity_end = v - v_sum / n;
   if (tt > 0.0) {
     r.accel_slope = tf / tt;
     r.accel_slope_sigma = r.accel_spread / std::sqrt(3.0 * tt);
