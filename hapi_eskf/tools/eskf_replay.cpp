@@ -5,7 +5,8 @@
 // RMS to the true sphere) plus per-frame filter statistics. A development
 // tool for studying accuracy and consistency; not a test.
 //
-//   eskf_replay FRAMES.txt|--synthetic-orbit[=SEED,...] [--every k] [--gap START LEN] [--verbose] [--out PREFIX] [key=value ...]
+//   eskf_replay FRAMES.txt|--synthetic-orbit[=SEED,...] [--every k] [--start-frame N] [--gap START LEN] [--verbose]
+//               [--out PREFIX] [key=value ...]
 //
 // With motion_model=gyro or inertial the stream's IMU samples (and its
 // extrinsic) drive the prediction exactly as in the nodelet: every sample up
@@ -17,7 +18,7 @@
 // frame, the 6x6 pose covariance as the odometry message states it) and
 // PREFIX_frame_twist.txt (per frame: t, the filter's camera-frame linear and
 // angular velocity) and PREFIX_anchor.txt (the instant and camera pose that
-// define the filter's world: the reset, or the gravity alignment), for
+// define the filter's world: the first processed frame's), for
 // tools/eval/accuracy.py, and PREFIX_map.txt (every map_publish_rate period
 // of stream time, after the frame that ends it, the landmarks' positions in
 // the filter's world, the frame of PREFIX_imu_rate.txt's poses, as the
@@ -28,6 +29,9 @@
 // config/eskf.yaml. key=value overrides any EskfSettings field (same names as
 // config/eskf.yaml; --help lists them with defaults and ranges).
 // --every k processes every k-th frame (simulates a back end that drops frames).
+// --start-frame N starts at the stream's frame N (0-based): the reset, the
+// inertial alignment and the world come from there (how much a figure
+// depends on where the filter started).
 // --gap START LEN skips the frames in [START, START+LEN) s after the first
 // one (simulates a front-end outage, e.g. a restart).
 #include "hapi_eskf/backend/association.hpp"
@@ -83,7 +87,7 @@ void alignRigid(const std::vector<Vec3>& e, const std::vector<Vec3>& g, Mat3* R,
 
 int main(int argc, char** argv) {
   const std::string usage = std::string("usage: eskf_replay ") + tools::kStreamSourceUsage +
-                            " [--every k] [--gap START LEN] [--gtcheck] [--verbose] [--out PREFIX] "
+                            " [--every k] [--start-frame N] [--gap START LEN] [--gtcheck] [--verbose] [--out PREFIX] "
                             "[key=value ...]\n"
                             "       eskf_replay --help   (lists the settings key=value may set)\n";
   if (argc >= 2 && std::string(argv[1]) == "--help") {
@@ -97,7 +101,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   EskfSettings s;
-  int every = 1;
+  int every = 1, start_frame = 0;
   double gap_start = -1.0, gap_len = 0.0;
   bool verbose = false;
   std::string out_prefix;
@@ -105,6 +109,7 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--every" && i + 1 < argc) { every = std::stoi(argv[++i]); continue; }
+    if (a == "--start-frame" && i + 1 < argc) { start_frame = std::max(0, std::stoi(argv[++i])); continue; }
     if (a == "--gap" && i + 2 < argc) {
       gap_start = std::stod(argv[++i]);
       gap_len = std::stod(argv[++i]);
@@ -132,6 +137,12 @@ int main(int argc, char** argv) {
     std::cerr << read_error << "\n";
     return 1;
   }
+  // --start-frame: the stream begins there (the filter's reset and world).
+  if (start_frame >= static_cast<int>(stream.frames.size())) {
+    std::cerr << "--start-frame " << start_frame << " beyond the stream's " << stream.frames.size() << " frames\n";
+    return 1;
+  }
+  stream.frames.erase(stream.frames.begin(), stream.frames.begin() + start_frame);
   const std::vector<StereoFrame>& frames = stream.frames;
   const std::vector<tools::TruePose>& gt = stream.truth;
   const Vec3 centre = stream.globe_centre;
@@ -150,8 +161,8 @@ int main(int argc, char** argv) {
   if (!backend) { std::cerr << err << "\n"; return 1; }
   Eskf eskf(s, std::move(backend), stream.extrinsic.value_or(CameraExtrinsic()));
   eskf.reset(PoseState(), frames[0].stamp);
-  // The instant that defines the filter's world (the reset, or the inertial
-  // model's gravity alignment) and the camera pose there: PREFIX_anchor.txt.
+  // The instant that defines the filter's world (its first processed frame)
+  // and the camera pose there: PREFIX_anchor.txt.
   std::FILE* anchor_file = out_prefix.empty() ? nullptr : std::fopen((out_prefix + "_anchor.txt").c_str(), "w");
   bool anchored = false;
   // The nodelet's order: IMU samples on the camera clock, every one up to a
@@ -182,15 +193,16 @@ int main(int argc, char** argv) {
     std::fprintf(f, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", t, x.p.x(), x.p.y(), x.p.z(), x.q.x(), x.q.y(),
                  x.q.z(), x.q.w());
   };
-  // Written once, as soon as the filter has its world: at the reset for the
-  // camera models, when the gravity alignment completes for the inertial one.
+  // Written once, with the first processed frame, whose camera is the
+  // filter's world (the reset for the camera models; the inertial model
+  // aligns to gravity again at that frame: docs/DESIGN.md "Inertial
+  // initialisation").
   auto writeAnchorOnce = [&] {
-    if (anchor_file == nullptr || anchored || eskf.awaitingAlignment()) return;
+    if (anchor_file == nullptr || anchored) return;
     writePose(anchor_file, eskf.time(), eskf.pose());
     std::fprintf(anchor_file, "\n");
     anchored = true;
   };
-  writeAnchorOnce();
   int imu_rejected = 0, awaiting = 0, vision_led = 0, scene_moving = 0, relocalised = 0, errors = 0;
   int frames_still = 0, zero_velocity_fused = 0;
   std::vector<double> still_speed;  // per frame with a verdict
@@ -287,7 +299,6 @@ int main(int argc, char** argv) {
                      c.w.z());
       }
       if (eskf.addImu(m) != Status::kOk) ++imu_rejected;
-      writeAnchorOnce();  // the inertial model: when the alignment completes
     }
     std::map<uint64_t, int> before;
     for (const auto& l : eskf.landmarks()) before[l.id] = 1;
@@ -311,6 +322,7 @@ int main(int argc, char** argv) {
                    c.w.x(), c.w.y(), c.w.z());
     }
     relocalised += rep.relocalised;
+    if (st == Status::kOk && !rep.relocalising) writeAnchorOnce();
     if (st == Status::kOk) writeMapSnapshot(frames[fi].stamp);
     if (use_imu && st == Status::kOk) imu_rate.rebase(eskf, rep.scene_moving);
     errors += st != Status::kOk;

@@ -14,7 +14,7 @@ simulator's ground truth (docs/ACCURACY.md records the figures):
 
     accuracy.py [--scenarios skin:handheld,globe:smooth,...] [--models constant_velocity,gyro,inertial]
                 [--seeds 1] [--duration 30] [--realism ideal|real] [--data DIR] [--out DIR] [--markdown FILE]
-                [--set key=value ...]
+                [--set key=value ...] [--starts N] [--eskf-replay PATH]
     accuracy.py --nees-seeds 20 --scenarios skin:handheld --models inertial --duration 10
     accuracy.py --recording DIR [--rate-divisor auto|N] [--models ...] [--data DIR] ...
 
@@ -140,10 +140,16 @@ def load_rows(path):
     return np.array([[float(x) for x in r] for r in rows]) if rows else np.zeros((0, 1))
 
 
-def replay(txt, model, offset, prefix, log, settings=()):
-    """eskf_replay (settings: extra key=value filter settings); returns (exit status, its event counts)."""
-    st, out = run(["rosrun", "hapi_eskf", "eskf_replay", txt, "motion_model=" + model,
-                   "imu_time_offset=%r" % offset, "--out", prefix] + list(settings), log)
+# The back end's replay: the workspace's, or --eskf-replay's binary (another
+# build of the ROS-free core, e.g. a baseline commit: variants compared in one run).
+REPLAY = ["rosrun", "hapi_eskf", "eskf_replay"]
+
+
+def replay(txt, model, offset, prefix, log, settings=(), start_frame=0):
+    """eskf_replay (settings: extra key=value filter settings; from the stream's
+    frame start_frame on); returns (exit status, its event counts)."""
+    st, out = run(REPLAY + [txt, "motion_model=" + model, "imu_time_offset=%r" % offset, "--out", prefix]
+                  + (["--start-frame", str(start_frame)] if start_frame else []) + list(settings), log)
     events = {}
     for line in out.splitlines():
         if line.startswith("events:"):
@@ -155,7 +161,7 @@ def replay(txt, model, offset, prefix, log, settings=()):
 
 def anchor_pose(prefix, offset, truth):
     """(est_p0, est_r0, ref_p0, ref_r0) where the filter defined its world (its
-    reset or gravity alignment, eskf_replay's PREFIX_anchor.txt) and the truth
+    first processed frame, eskf_replay's PREFIX_anchor.txt) and the truth
     interpolated there; None without."""
     a = load_rows(prefix + "_anchor.txt")
     if not len(a) or a.shape[1] < 8:
@@ -252,21 +258,50 @@ def anees(results):
     return out
 
 
-def score_stream(label, bag, txt, models, seed, out, log, settings):
-    """Every motion model's replay of one landmark stream, scored: the table's rows."""
+def score_stream(label, bag, txt, models, seed, out, log, settings, starts=1):
+    """Every motion model's replay of one landmark stream, scored: the table's
+    rows; with starts > 1 one row per start frame 0..starts-1 (label "@k")."""
     offset = time_offset(bag)
     told = time_offset(bag, "/calibration", default=offset)  # what the filter is told (make_sim_bag --realism real)
     truth, truth_twist, lm_per_frame = read_stream_truth(txt)
     rows = []
     for model in models:
-        prefix = os.path.join(out, f"{os.path.basename(txt)[:-len('_stream.txt')]}_{model}")
-        status, events = replay(txt, model, told, prefix, log, settings)
-        rep, series = evaluate(prefix, model, offset, truth, truth_twist) if status == 0 else (None, None)
-        r = {"scenario": label, "model": model, "seed": seed, "landmarks_per_frame": lm_per_frame, "metrics": rep,
-             "events": events, "diverged": diverged(rep, status), "series": series}
-        rows.append(r)
-        print(table([r]).splitlines()[2], flush=True)
+        for k in range(starts):
+            name = f"{os.path.basename(txt)[:-len('_stream.txt')]}_{model}" + (f"_start{k}" if k else "")
+            prefix = os.path.join(out, name)
+            status, events = replay(txt, model, told, prefix, log, settings, k)
+            rep, series = evaluate(prefix, model, offset, truth, truth_twist) if status == 0 else (None, None)
+            r = {"scenario": label + (f" @{k}" if starts > 1 else ""), "model": model, "seed": seed, "start_frame": k,
+                 "landmarks_per_frame": lm_per_frame, "metrics": rep, "events": events,
+                 "diverged": diverged(rep, status), "series": series}
+            rows.append(r)
+            print(table([r]).splitlines()[2], flush=True)
     return rows
+
+
+def start_spread(results):
+    """Per model, over the rows of several start frames: the median and the
+    largest standstill drift (or ATE), the figure's dependence on where the
+    filter started."""
+    by_model = {}
+    for r in results:
+        if r.get("start_frame") is None or not r["metrics"]:
+            continue
+        m = r["metrics"]
+        if "standstill_drift_m" in m:
+            by_model.setdefault(r["model"], []).append((m["standstill_drift_m"] * 1000,
+                                                        m["standstill_rotation_drift_deg"], "mm", "deg"))
+        elif "ate_rmse_m" in m:
+            by_model.setdefault(r["model"], []).append((m["ate_rmse_m"] * 100, m["rotation_rmse_deg"], "cm", "deg"))
+    parts = []
+    for model, v in by_model.items():
+        if len(v) < 2:
+            continue
+        a, b = np.array([x[0] for x in v]), np.array([x[1] for x in v])
+        parts.append(f"{model}: {np.median(a):.2f} {v[0][2]} (max {a.max():.2f}), {np.median(b):.3f} {v[0][3]} "
+                     f"(max {b.max():.3f}) over {len(v)} starts")
+    return ("Median and largest over the start frames (standing still: drift; moving: ATE and rotation RMS): "
+            + "; ".join(parts)) if parts else ""
 
 
 def parse_args(argv):
@@ -288,11 +323,18 @@ def parse_args(argv):
     ap.add_argument("--markdown")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="a filter setting for every replay (eskf_replay key=value; repeatable)")
+    ap.add_argument("--starts", type=int, default=1,
+                    help="replay from each of the stream's first N frames (the start's alignment and world): "
+                         "one row each and their median and largest figures")
+    ap.add_argument("--eskf-replay", metavar="PATH",
+                    help="this eskf_replay binary instead of the workspace's (a core build of another commit)")
     return ap.parse_args(argv)
 
 
 def main(argv=None):
     a = parse_args(argv)
+    if a.eskf_replay:
+        REPLAY[:] = [a.eskf_replay]
     if a.data is None and not a.recording:
         a.data = os.path.join(REPO, ".data", "sim")
     if a.data:
@@ -304,15 +346,18 @@ def main(argv=None):
     results = []
     if a.recording:
         name, bag, txt = recording_stream(a.recording, a.rate_divisor, a.data, log)
-        results += score_stream(name, bag, txt, models, 0, a.out, log, a.set)
+        results += score_stream(name, bag, txt, models, 0, a.out, log, a.set, a.starts)
     else:
         for sc in a.scenarios.split(","):
             scene, traj = sc.split(":")
             for seed in seeds:
                 _, bag, txt = stream_for(scene, traj, seed, a.duration, a.data, log, a.realism)
                 label = f"{scene}/{traj}" + (f" s{seed}" if len(seeds) > 1 else "")
-                results += score_stream(label, bag, txt, models, seed, a.out, log, a.set)
+                results += score_stream(label, bag, txt, models, seed, a.out, log, a.set, a.starts)
     text = table(results)
+    spread = start_spread(results) if a.starts > 1 else ""
+    if spread:
+        text += "\n\n" + spread
     report = {"command": " ".join(sys.argv), "duration_s": None if a.recording else a.duration,
               "realism": None if a.recording else a.realism,
               "runs": [{k: v for k, v in r.items() if k != "series"} for r in results]}
