@@ -102,6 +102,7 @@ Status Eskf::reset(const PoseState& initial, double stamp) {
   start_samples_.clear();
   pending_map_.clear();
   map_keyframes_.clear();
+  keyframe_candidate_.reset();
   imu_noise_.clear();
   scene_motion_.reset();
   still_.reset();
@@ -622,6 +623,7 @@ bool Eskf::fitOnMapKeyframes(FrameWork& w) {
   if (!fit) return false;
   const Mat3 R = fit->T_map_cam.linear();
   if (model_->kind() == MotionModelKind::kInertial && !tiltAgrees(R)) return false;
+  if (!confirmKeyframeFit(fit->T_map_cam, w.frame->stamp)) return false;
   std::vector<PriorLandmark> points = keyframeLandmarks(map_keyframes_.keyframes()[fit->keyframe]);
   const long room = static_cast<long>(settings_.max_landmarks) - settings_.max_new_landmarks - numLandmarks();
   points.resize(static_cast<std::size_t>(std::clamp(room, 0L, static_cast<long>(points.size()))));
@@ -633,6 +635,18 @@ bool Eskf::fitOnMapKeyframes(FrameWork& w) {
   w.assoc.fit_inliers = fit->inliers;
   w.rep.keyframe_fit = true;
   return true;
+}
+
+bool Eskf::confirmKeyframeFit(const Eigen::Isometry3d& T_map_cam, double stamp) {
+  const auto previous = keyframe_candidate_;
+  keyframe_candidate_ = std::make_pair(stamp, T_map_cam);
+  if (!previous) return false;
+  const double dt = stamp - previous->first;
+  if (!(dt > 0.0) || dt > kRelocaliseWaitS) return false;
+  const Eigen::Isometry3d moved = previous->second.inverse() * T_map_cam;
+  const double angle = Eigen::AngleAxisd(moved.linear()).angle();
+  return moved.translation().norm() <= kKeyframeConfirmTranslation + kKeyframeConfirmSpeed * dt &&
+         angle <= kKeyframeConfirmRotation + kKeyframeConfirmRate * dt;
 }
 
 // Each measurement as the association left it; the update and the

@@ -27,6 +27,15 @@ constexpr int kMapRelocaliseMinInliers = 12;
 // gravity, whichever is larger) is no relocalisation: wrong matches fit any
 // tilt, the IMU levels the camera to well within a degree at rest.
 constexpr double kMapRelocaliseMaxTilt = 0.1;  // [rad]
+// A placement on a map keyframe counts once the next frame's placement
+// agrees with it: wrong matches on unmapped skin now and then fit some
+// rigid motion, but two frames' chance fits do not land together. Agree:
+// the camera moved between the two fits by no more than a hand moves it in
+// that time plus the fits' own scatter.
+constexpr double kKeyframeConfirmSpeed = 0.5;         // [m/s] a hand's fast motion
+constexpr double kKeyframeConfirmRate = 1.0;          // [rad/s]
+constexpr double kKeyframeConfirmTranslation = 0.01;  // [m] fit scatter
+constexpr double kKeyframeConfirmRotation = 0.035;    // [rad] fit scatter (2 deg)
 
 struct AssociationSettings {
 #define HAPI_FIELD(type, name, default_value, range, unit, doc) type name = default_value;

@@ -34,6 +34,7 @@
 #include "hapi_eskf/types.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -232,6 +233,9 @@ class Eskf final : public SlamBackend {
   // frame's map fit (w.assoc.fit_*), the placing keyframe's points added to
   // the pool. False when no keyframe places the frame.
   bool fitOnMapKeyframes(FrameWork& w);
+  // Whether this keyframe placement agrees with the previous frame's
+  // (kKeyframeConfirm*); it becomes the one the next frame is checked against.
+  bool confirmKeyframeFit(const Eigen::Isometry3d& T_map_cam, double stamp);
   // The gravity-aligned world turned onto the map's gravity direction.
   void turnWorldTo(const Vec3& gravity_direction);
   // A map fit's camera tilt against the IMU's (kMapRelocaliseMaxTilt).
@@ -282,6 +286,8 @@ class Eskf final : public SlamBackend {
   ZeroVelocityUpdate zero_velocity_;
   Relocaliser relocaliser_;
   KeyframeRelocaliser map_keyframes_;  // the loaded map's keyframes (loadMap)
+  // The last frame's keyframe placement, awaiting the next one's agreement.
+  std::optional<std::pair<double, Eigen::Isometry3d>> keyframe_candidate_;
   LandmarkBook book_;  // per slot, same order as the backend's slots
 };
 
