@@ -570,20 +570,33 @@ TEST(InertialFilter, SceneMotionStatesTrackTheSurfaceWithoutVisionLeading) {
 // The chained prediction (Eskf::predictStepTo) applied to C once equals the
 // single steps applied one by one: C <- F C F^T + Q on the pose rows and
 // columns, for every sample.
+// An inertial filter over a random world of 3000 points (the inertial
+// trajectory, forward camera, 200 Hz IMU), fed samples until its gravity
+// alignment is done; k: the next sample's index.
+struct AlignedFilter {
+  AlignedFilter(const EskfSettings& s, unsigned seed)
+      : rng(seed), world(sim::randomWorld(rng, 3000, Vec3(-20, -20, -20), Vec3(20, 20, 20))),
+        e(sim::forwardCamera()), f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), e) {
+    EXPECT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
+    for (; f.awaitingAlignment(); ++k) EXPECT_EQ(f.addImu(nextSample()), Status::kOk);
+  }
+  ImuSample nextSample() { return sim::imuSample(traj, noise, 0.005 * k, 0.005, rng); }
+  std::mt19937 rng;
+  const sim::StereoRig rig;
+  const sim::World world;
+  const sim::InertialTrajectory traj;
+  const sim::ImuNoiseModel noise;
+  const CameraExtrinsic e;
+  Eskf f;
+  int k = 1;
+};
+
 TEST(InertialFilter, ChainedPredictionEqualsStepByStep) {
   EskfSettings s = inertialSettings();
   s.max_landmarks = 300;
   s.max_new_landmarks = 50;
-  std::mt19937 rng(4);
-  const sim::StereoRig rig;
-  const sim::World world = sim::randomWorld(rng, 3000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
-  const sim::InertialTrajectory traj;
-  const sim::ImuNoiseModel noise;
-  const CameraExtrinsic e = sim::forwardCamera();
-  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), e);
-  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
-  int k = 1;
-  for (; f.awaitingAlignment(); ++k) ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, 0.005 * k, 0.005, rng)), Status::kOk);
+  AlignedFilter a(s, 4);
+  auto& [rng, rig, world, traj, noise, e, f, k] = a;
   PoseState cam = sim::cameraOf(traj.at(f.time()), e);
   cam.p -= sim::cameraOf(traj.at(0.0), e).p;
   ASSERT_EQ(f.processFrame(sim::makeFrame(world, cam, rig, f.time(), 0, rng)), Status::kOk);
@@ -621,16 +634,8 @@ TEST(InertialFilter, ChainedPredictionEqualsStepByStep) {
 TEST(InertialFilter, TheFirstFrameAlignsAgainSoTheWorldIsItsCamera) {
   EskfSettings s = inertialSettings();
   s.static_sigma_velocity = 1e-6;  // a moving start (the trajectory accelerates smoothly)
-  std::mt19937 rng(6);
-  const sim::StereoRig rig;
-  const sim::World world = sim::randomWorld(rng, 3000, Vec3(-20, -20, -20), Vec3(20, 20, 20));
-  const sim::InertialTrajectory traj;
-  const sim::ImuNoiseModel noise;
-  const CameraExtrinsic e = sim::forwardCamera();
-  Eskf f(s, makeCpuBackend(s.max_landmarks, 32, poseDim(s)), e);
-  ASSERT_EQ(f.reset(PoseState(), 0.0), Status::kOk);
-  int k = 1;
-  for (; f.awaitingAlignment(); ++k) ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, 0.005 * k, 0.005, rng)), Status::kOk);
+  AlignedFilter a(s, 6);
+  auto& [rng, rig, world, traj, noise, e, f, k] = a;
   const double t_aligned = f.time(), t_frame = 0.005 * (k + 19);
   for (; 0.005 * k <= t_frame + 1e-9; ++k)
     ASSERT_EQ(f.addImu(sim::imuSample(traj, noise, 0.005 * k, 0.005, rng)), Status::kOk);
