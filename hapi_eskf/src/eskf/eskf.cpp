@@ -620,9 +620,11 @@ Status Eskf::moveToMapFit(FrameWork& w, bool vision_leads) {
 // moves the pose, and the loaded landmarks seen later tie it to the map.
 bool Eskf::fitOnMapKeyframes(FrameWork& w) {
   const std::optional<KeyframeFit> fit = map_keyframes_.place(*w.frame);
-  if (!fit) return false;
-  const Mat3 R = fit->T_map_cam.linear();
-  if (model_->kind() == MotionModelKind::kInertial && !tiltAgrees(R)) return false;
+  const bool placed = fit && (model_->kind() != MotionModelKind::kInertial || tiltAgrees(fit->T_map_cam.linear()));
+  if (!placed) {
+    keyframe_candidate_.reset();  // the next placement is checked against the frame after it
+    return false;
+  }
   if (!confirmKeyframeFit(fit->T_map_cam, w.frame->stamp)) return false;
   std::vector<PriorLandmark> points = keyframeLandmarks(map_keyframes_.keyframes()[fit->keyframe]);
   const long room = static_cast<long>(settings_.max_landmarks) - settings_.max_new_landmarks - numLandmarks();
@@ -630,7 +632,7 @@ bool Eskf::fitOnMapKeyframes(FrameWork& w) {
   // A failed addition leaves the pool as it was (the backend's contract):
   // the fit then moves the pose alone.
   static_cast<void>(addPriorLandmarks(points));
-  w.assoc.fit_R = R;
+  w.assoc.fit_R = fit->T_map_cam.linear();
   w.assoc.fit_t = fit->T_map_cam.translation();
   w.assoc.fit_inliers = fit->inliers;
   w.rep.keyframe_fit = true;

@@ -234,7 +234,8 @@ class Eskf final : public SlamBackend {
   // the pool. False when no keyframe places the frame.
   bool fitOnMapKeyframes(FrameWork& w);
   // Whether this keyframe placement agrees with the previous frame's
-  // (kKeyframeConfirm*); it becomes the one the next frame is checked against.
+  // (kKeyframeConfirm*; a frame without one breaks the chain); it becomes
+  // the one the next frame is checked against.
   bool confirmKeyframeFit(const Eigen::Isometry3d& T_map_cam, double stamp);
   // The gravity-aligned world turned onto the map's gravity direction.
   void turnWorldTo(const Vec3& gravity_direction);
